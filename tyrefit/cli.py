@@ -1,0 +1,183 @@
+"""The ``tyrefit`` command line.
+
+Every subcommand and flag here is a contract (``shared/DESIGN.md``): scripts
+outside the package call them.  This module only parses arguments and
+dispatches to ``tyrefit.commands.<module>.run(args) -> int``; the work lives
+in the library.
+
+Exit codes: 0 success, 2 bad input (one line on stderr, no traceback unless
+``--debug``), 1 an unexpected internal error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from .errors import TyrefitError
+
+__all__ = ["main", "build_parser"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors as one line and exit code 2."""
+
+    def error(self, message: str) -> None:  # noqa: D401
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _common() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(add_help=False)
+    p.add_argument("--force", action="store_true", help="replace existing outputs")
+    p.add_argument("--debug", action="store_true", help="show tracebacks on errors")
+    return p
+
+
+def _convention(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--convention", choices=("iso", "sae"), default="iso",
+                   help="sign convention of the data file (sae: FSAE TTC, FZ negative); default iso")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    common = _common()
+    parser = _Parser(prog="tyrefit", description="Tyre rig data to Pacejka '89 tyre models.")
+    parser.add_argument("--version", action="version", version=_version())
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+
+    p = sub.add_parser("fit", parents=[common], help="fit a PAC89 tyre to slip-angle, slip-ratio or static-rig data")
+    p.add_argument("data", metavar="DATA")
+    p.add_argument("--patch", metavar="PATCH.csv", help="contact-patch data (needed for static-rig tests, Eq. 1)")
+    p.add_argument("--rig", metavar="RIG.json", help="displacement-to-slip calibration from 'tyrefit rig calibrate'")
+    p.add_argument("--vertical", metavar="VERTICAL.csv", help="vertical-stiffness test (VERTICAL_STIFFNESS in the .tir)")
+    p.add_argument("--effects", metavar="E1,E2", help="fit the diagnose start model plus these effects")
+    p.add_argument("--rated-load", type=float, metavar="NEWTONS", help="rated load for the 'overload' effect [N]")
+    p.add_argument("--cost", choices=("l1", "l2"), default="l2",
+                   help="l1: sum of absolute errors (Komana et al. Eq. 5); l2: ordinary least squares (default)")
+    p.add_argument("--static-part", choices=("peak", "sliding"), default="peak",
+                   help="static tests: which part of the static curve feeds the rolling-tyre fit")
+    p.add_argument("--out", required=True, metavar="TYRE.tir")
+    p.add_argument("--json", metavar="CHRONO.json", help="also write Chrono's PAC89 JSON")
+    p.add_argument("--report", metavar="DIR")
+    _convention(p)
+
+    p = sub.add_parser("rig", parents=[common], help="static-rig calibration")
+    rsub = p.add_subparsers(dest="rig_command", metavar="RIG_COMMAND", parser_class=_Parser)
+    rsub.required = True
+    c = rsub.add_parser("calibrate", parents=[common], help="fit Eq. 1's f(dy/L) on a tyre tested on both rigs")
+    c.add_argument("--static", required=True, metavar="STTR.csv")
+    c.add_argument("--dynamic", required=True, metavar="DTTR.csv")
+    c.add_argument("--patch", required=True, metavar="PATCH.csv")
+    c.add_argument("--out", required=True, metavar="RIG.json")
+    c.add_argument("--report", metavar="DIR")
+
+    p = sub.add_parser("compare", parents=[common], help="compare two tyre files (and data)")
+    p.add_argument("tyre_a", metavar="A.tir")
+    p.add_argument("tyre_b", metavar="B.tir")
+    p.add_argument("--data", metavar="DATA")
+    p.add_argument("--report", metavar="DIR")
+    p.add_argument("--json", metavar="OUT.json")
+    _convention(p)
+
+    p = sub.add_parser("diagnose", parents=[common], help="find the physical effects the model is missing")
+    p.add_argument("data", metavar="DATA")
+    p.add_argument("--start", metavar="E1,E2", help="effects in the start model (besides base PAC89)")
+    p.add_argument("--rated-load", type=float, metavar="NEWTONS", help="rated load for the 'overload' effect [N]")
+    p.add_argument("--json", required=True, metavar="OUT.json")
+    p.add_argument("--report", metavar="DIR")
+    p.add_argument("--seed", type=int, default=0, help="random seed for resampling")
+    _convention(p)
+
+    p = sub.add_parser("sim", parents=[common], help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")
+    ssub = p.add_subparsers(dest="scenario", metavar="SCENARIO", parser_class=_Parser)
+    ssub.required = True
+    for name, text in (("braking", "emergency braking, 30/60/120 km/h, conditions 0.5 and 1.0"),
+                       ("straight", "accelerate to speed then brake on a straight path"),
+                       ("curved", "straight, arc at half the UK desirable minimum radius, straight")):
+        s = ssub.add_parser(name, parents=[common], help=text)
+        s.add_argument("--front", metavar="F.tir", help="front (hard, low-wear) tyre; default the bundled one")
+        s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
+        s.add_argument("--json", metavar="OUT.json")
+        s.add_argument("--report", metavar="DIR")
+    s = ssub.add_parser("adhesion", parents=[common], help="EKF road-adhesion estimation (seed 001)")
+    s.add_argument("--road-mu", type=float, default=0.8, metavar="MU")
+    s.add_argument("--camber", type=float, default=0.0, metavar="DEG")
+    s.add_argument("--json", metavar="OUT.json")
+    s.add_argument("--report", metavar="DIR")
+
+    p = sub.add_parser("slip", parents=[common], help="longitudinal slip characteristics (seed 002)")
+    p.add_argument("data", metavar="DATA")
+    p.add_argument("--json", metavar="OUT.json")
+    p.add_argument("--report", metavar="DIR")
+    _convention(p)
+
+    p = sub.add_parser("traction", parents=[common], help="treadwear-traction law from braking tests (seed 000)")
+    p.add_argument("data", metavar="BRAKING.csv")
+    p.add_argument("--json", metavar="OUT.json")
+    p.add_argument("--report", metavar="DIR")
+
+    p = sub.add_parser("batch", parents=[common], help="batch operations on tyre databases")
+    bsub = p.add_subparsers(dest="batch_command", metavar="BATCH_COMMAND", parser_class=_Parser)
+    bsub.required = True
+    b = bsub.add_parser("fit", parents=[common], help="fit every data file in a folder or glob")
+    b.add_argument("source", metavar="DIR_OR_GLOB")
+    b.add_argument("--out", required=True, metavar="DIR")
+    b.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (tcp://host:8786)")
+    b.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: CPU count)")
+    b.add_argument("--cost", choices=("l1", "l2"), default="l2")
+    _convention(b)
+
+    p = sub.add_parser("inspect", parents=[common], help="say what a data or tyre file holds")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--json", metavar="OUT.json")
+    _convention(p)
+
+    p = sub.add_parser("demo", parents=[common], help="run the main job on the bundled data")
+    p.add_argument("--out", default="reports/demo", metavar="DIR")
+    return parser
+
+
+#: subcommand -> module in tyrefit.commands that holds ``run(args) -> int``
+COMMANDS = {
+    "fit": "fit",
+    "rig": "rig",
+    "compare": "compare",
+    "diagnose": "diagnose",
+    "sim": "sim",
+    "slip": "slip",
+    "traction": "traction",
+    "batch": "batch",
+    "inspect": "inspect",
+    "demo": "demo",
+}
+
+
+def _version() -> str:
+    from . import __version__
+
+    return f"tyrefit {__version__}"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; return the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    debug = getattr(args, "debug", False)
+    try:
+        module = importlib.import_module(f"tyrefit.commands.{COMMANDS[args.command]}")
+        return int(module.run(args) or 0)
+    except TyrefitError as exc:
+        if debug:
+            raise
+        msg = " ".join(str(exc).split())  # one line
+        print(f"tyrefit {args.command}: error: {msg}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:  # pragma: no cover
+        print("tyrefit: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

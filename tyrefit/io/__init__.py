@@ -1,0 +1,1 @@
+"""Reading and writing: rig data files, tyre property files, safe outputs."""

@@ -1,0 +1,119 @@
+"""Project Chrono's PAC89 tyre JSON (``Template: Pac89Tire``).
+
+Layout of ``shared/reference/chrono/HMMWV_Pac89Tire.json``: SI design
+parameters, lowercase coefficients in "Lateral/Longitudinal/Aligning
+Coefficients", an optional nonlinear "Vertical Curve Data" table of
+(deflection [m], force [N]).  Chrono's files carry ``//`` comments, which are
+stripped before parsing.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path
+
+from ..errors import FormatError
+from ..models import pac89
+from ..tyre import Pac89Tyre
+from .outputs import write_text
+
+__all__ = ["read_chrono_json", "write_chrono_json", "chrono_dict"]
+
+_SECTIONS = (("Lateral Coefficients", pac89.LATERAL), ("Longitudinal Coefficients", pac89.LONGITUDINAL),
+             ("Aligning Coefficients", pac89.ALIGNING))
+
+
+def _strip_comments(text: str) -> str:
+    out = []
+    for line in text.splitlines():
+        # drop // comments that are not inside a string
+        in_str, i = False, 0
+        while i < len(line):
+            ch = line[i]
+            if ch == '"' and (i == 0 or line[i - 1] != "\\"):
+                in_str = not in_str
+            elif not in_str and line.startswith("//", i):
+                line = line[:i]
+                break
+            i += 1
+        out.append(line)
+    text = "\n".join(out)
+    return re.sub(r",(\s*[}\]])", r"\1", text)  # trailing commas
+
+
+def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
+    """Read Chrono's PAC89 JSON into a :class:`Pac89Tyre`."""
+    p = Path(path)
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
+    try:
+        doc = json.loads(_strip_comments(raw.decode("utf-8")))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise FormatError(f"{p}: not a Chrono tyre JSON file ({exc.__class__.__name__}: "
+                          f"{str(exc).splitlines()[0][:80]})") from None
+    if not isinstance(doc, dict) or "Lateral Coefficients" not in doc:
+        raise FormatError(f"{p}: no 'Lateral Coefficients'; expected Chrono's Pac89Tire JSON")
+    coeffs: dict[str, float] = {}
+    for sec, names in _SECTIONS:
+        block = doc.get(sec, {}) or {}
+        if not isinstance(block, dict):
+            raise FormatError(f"{p}: '{sec}' must be an object of coefficients")
+        for k, v in block.items():
+            k = str(k).lower()
+            if k in names:
+                try:
+                    coeffs[k] = float(v)
+                except (TypeError, ValueError):
+                    raise FormatError(f"{p}: {sec} {k} = {v!r} is not a number") from None
+    d = doc.get("Design Parameters", {}) or {}
+
+    def num(key):
+        v = d.get(key)
+        return float(v) if isinstance(v, (int, float)) else None
+
+    curve = d.get("Vertical Curve Data")
+    return Pac89Tyre(
+        coefficients=coeffs,
+        unloaded_radius=num("Unloaded Radius"),
+        width=num("Width"),
+        lateral_stiffness=num("Lateral Stiffness"),
+        vertical_stiffness=num("Vertical Stiffness"),
+        rolling_resistance=num("Rolling Resistance") or 0.0,
+        vertical_curve=[(float(a), float(b)) for a, b in curve] if curve else None,
+        name=str(doc.get("Name", p.stem)),
+    )
+
+
+def chrono_dict(tyre: Pac89Tyre, mass: float | None = None, inertia=None) -> dict:
+    """The Chrono JSON document of ``tyre`` as a dict."""
+    design: dict[str, object] = {}
+    if tyre.unloaded_radius is not None:
+        design["Unloaded Radius"] = tyre.unloaded_radius
+    if tyre.width is not None:
+        design["Width"] = tyre.width
+    if tyre.vertical_stiffness is not None:
+        design["Vertical Stiffness"] = tyre.vertical_stiffness
+    if tyre.vertical_curve:
+        design["Vertical Curve Data"] = [[float(a), float(b)] for a, b in tyre.vertical_curve]
+    if tyre.lateral_stiffness is not None:
+        design["Lateral Stiffness"] = tyre.lateral_stiffness
+    design["Rolling Resistance"] = tyre.rolling_resistance
+    doc: dict[str, object] = {"Name": tyre.name, "Type": "Tire", "Template": "Pac89Tire"}
+    if mass is not None:
+        doc["Mass"] = mass
+    if inertia is not None:
+        doc["Inertia"] = list(inertia)
+    doc["Coefficient of Friction"] = 0.8
+    doc["Design Parameters"] = design
+    for sec, names in _SECTIONS:
+        doc[sec] = {k: tyre.coefficients[k] for k in names}
+    return doc
+
+
+def write_chrono_json(tyre: Pac89Tyre, path: str | os.PathLike, force: bool = False) -> Path:
+    """Write Chrono's PAC89 JSON (atomically)."""
+    return write_text(path, json.dumps(chrono_dict(tyre), indent=4) + "\n", force=force)

@@ -1,0 +1,1 @@
+"""Pure, vectorised tyre models: numpy in, numpy out, SI units, no checks."""
