@@ -63,7 +63,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--report", metavar="DIR")
     _convention(p)
 
-    p = sub.add_parser("rig", parents=[common], help="static-rig calibration")
+    p = sub.add_parser("rig", help="static-rig calibration")
     rsub = p.add_subparsers(dest="rig_command", metavar="RIG_COMMAND", parser_class=_Parser)
     rsub.required = True
     c = rsub.add_parser("calibrate", parents=[common], help="fit Eq. 1's f(dy/L) on a tyre tested on both rigs")
@@ -90,7 +90,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0, help="random seed for resampling")
     _convention(p)
 
-    p = sub.add_parser("sim", parents=[common], help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")
+    p = sub.add_parser("sim", help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")
     ssub = p.add_subparsers(dest="scenario", metavar="SCENARIO", parser_class=_Parser)
     ssub.required = True
     for name, text in (("braking", "emergency braking, 30/60/120 km/h, conditions 0.5 and 1.0"),
@@ -118,7 +118,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", metavar="OUT.json")
     p.add_argument("--report", metavar="DIR")
 
-    p = sub.add_parser("batch", parents=[common], help="batch operations on tyre databases")
+    p = sub.add_parser("batch", help="batch operations on tyre databases")
     bsub = p.add_subparsers(dest="batch_command", metavar="BATCH_COMMAND", parser_class=_Parser)
     bsub.required = True
     b = bsub.add_parser("fit", parents=[common], help="fit every data file in a folder or glob")
