@@ -154,6 +154,15 @@ COMMANDS = {
 }
 
 
+#: (command, subcommand) pairs served by a module of their own
+SUBCOMMANDS = {("sim", "adhesion"): "adhesion"}
+
+
+def _module_for(args: argparse.Namespace) -> str:
+    sub = getattr(args, "scenario", None)
+    return SUBCOMMANDS.get((args.command, sub), COMMANDS[args.command])
+
+
 def _version() -> str:
     from . import __version__
 
@@ -166,7 +175,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     debug = getattr(args, "debug", False)
     try:
-        module = importlib.import_module(f"tyrefit.commands.{COMMANDS[args.command]}")
+        module = importlib.import_module(f"tyrefit.commands.{_module_for(args)}")
         return int(module.run(args) or 0)
     except TyrefitError as exc:
         if debug:
