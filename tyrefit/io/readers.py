@@ -1,0 +1,743 @@
+"""Read rig data files into one validated, tidy :class:`Dataset`.
+
+:func:`read_data` reads
+
+* CSV tables whose headers carry units (``fz [kN]``, ``slip_angle [deg]``;
+  lines starting with ``#`` are comments), for every rig the package knows:
+  static-rig lateral tests, dynamic-rig slip-angle and slip-ratio tests,
+  contact patch, vertical stiffness (load/unload), braking tables, UTQG
+  ratings and particle emission vs force;
+* TYDEX ``.tdx`` files (:mod:`tyrefit.io.tydex`);
+* FSAE TTC ``.dat`` files (:mod:`tyrefit.io.ttc`), whose one continuous
+  record is cut into steady-condition sweeps by :mod:`tyrefit.io.segment`.
+
+Whatever the format, the result holds canonical column names
+(:data:`tyrefit.nomenclature.GLOSSARY`), SI units, the ISO-W sign convention
+and an integer ``run`` column (the sweep id).
+
+Sign conventions
+----------------
+Data are held in ISO-W: ``fz > 0`` in compression and, for a normal tyre, a
+positive slip angle gives a negative lateral force.  ``convention='sae'`` (the
+SAE tyre axis system of the FSAE TTC data, z down, y to the right) is turned
+into ISO-W once, here, by a half turn about the x axis, which negates exactly
+these columns (:data:`SAE_FLIPPED`)::
+
+    fz, fy, mz, slip_angle, lateral_displacement
+
+and leaves ``fx``, ``mx``, ``camber``, ``slip_ratio``, speeds, pressures,
+lengths and the vertical deflection as they are.  In SAE a positive slip
+angle also gives a negative lateral force, so the half turn keeps that
+relation: after reading, positive ``slip_angle`` goes with negative ``fy``.
+
+Validation
+----------
+Every problem raises a :mod:`tyrefit.errors` class with a one-line message
+that names the file, the column and the row (file line) and says what is
+accepted: see :data:`LIMITS` for the plausibility ranges.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .. import nomenclature as nm
+from ..errors import ColumnError, DataError, FormatError, UnitError, ValueRangeError
+
+__all__ = [
+    "Dataset",
+    "read_data",
+    "check_fittable",
+    "require_patch",
+    "detect_kind",
+    "KINDS",
+    "REQUIRED",
+    "LIMITS",
+    "SAE_FLIPPED",
+    "sniff_format",
+]
+
+#: data kinds and what each is
+KINDS: dict[str, str] = {
+    "static": "static-rig (STTR) lateral push: lateral_displacement, fy, fz",
+    "slip_angle": "dynamic-rig slip-angle sweeps: slip_angle, fy, fz",
+    "slip_ratio": "dynamic-rig slip-ratio sweeps: slip_ratio, fx, fz",
+    "patch": "contact patch: length/width/area and load or fz",
+    "vertical": "vertical stiffness (load/unload): vertical_displacement and fz or load",
+    "braking": "braking tests: stopping_distance, initial_speed",
+    "utqg": "UTQG ratings: treadwear",
+    "emission": "particle emission vs force: particles, fx",
+}
+
+#: required columns per kind: each entry is a tuple of alternatives (one of them is needed)
+REQUIRED: dict[str, list[tuple[str, ...]]] = {
+    "static": [("lateral_displacement",), ("fy",), ("fz",)],
+    "slip_angle": [("slip_angle",), ("fy",), ("fz",)],
+    "slip_ratio": [("slip_ratio",), ("fx",), ("fz",)],
+    "patch": [("length", "width", "area"), ("load", "fz")],
+    "vertical": [("vertical_displacement",), ("fz", "load")],
+    "braking": [("stopping_distance",), ("initial_speed",)],
+    "utqg": [("treadwear",)],
+    "emission": [("particles",), ("fx",)],
+}
+
+#: order in which kinds are tried when none is given
+_DETECT_ORDER = ("braking", "utqg", "emission", "static", "patch", "vertical", "slip_angle", "slip_ratio")
+
+#: columns negated when converting SAE to ISO-W (a half turn about x)
+SAE_FLIPPED = ("fz", "fy", "mz", "slip_angle", "lateral_displacement")
+
+_DEG = math.pi / 180.0
+
+#: plausibility limits in SI: column -> (low, high, low_inclusive, display unit, text)
+LIMITS: dict[str, tuple[float, float, bool, str]] = {
+    "fz": (0.0, 200e3, False, "kN"),
+    "load": (0.0, 200e3, False, "kN"),
+    "slip_angle": (-90 * _DEG, 90 * _DEG, True, "deg"),
+    "camber": (-30 * _DEG, 30 * _DEG, True, "deg"),
+    "pressure": (0.0, 20e5, False, "bar"),
+    "slip_ratio": (-1.0, 1.0, True, "-"),
+    "length": (0.0, 2.0, False, "mm"),
+    "width": (0.0, 2.0, False, "mm"),
+    "area": (0.0, 2.0, False, "cm2"),
+    "stopping_distance": (0.0, 1000.0, False, "m"),
+    "initial_speed": (0.0, 150.0, False, "km/h"),
+    "speed": (-150.0, 150.0, True, "km/h"),
+    "treadwear": (0.0, 2000.0, False, "-"),
+}
+
+#: kinds that are fitted (check_fittable) and their sweep variable
+SWEEP_VARIABLE = {"slip_angle": "slip_angle", "slip_ratio": "slip_ratio", "static": "lateral_displacement"}
+#: smallest peak-to-peak variation of the sweep variable that counts as a sweep [SI]
+MIN_SWEEP_SPAN = {"slip_angle": 0.5 * _DEG, "slip_ratio": 0.01, "lateral_displacement": 2e-3}
+
+#: set-point channels and their step tolerance [SI] for deriving runs
+SETPOINT_TOL = {"load": 0.0, "camber": 0.25 * _DEG, "pressure": 0.1e5, "speed": 1.0 / 3.6}
+
+
+@dataclass
+class Dataset:
+    """A tidy data set read from one file.
+
+    Attributes
+    ----------
+    df : pandas.DataFrame
+        one row per sample; canonical column names, SI units, ISO-W signs;
+        an integer ``run`` column (sweep id).  Numeric columns are float
+        (``run`` is int); text columns (tyre names) are kept as text.
+    kind : str
+        one of :data:`KINDS`.
+    source : str
+        the file read.
+    convention : str
+        sign convention of the *file* (``'iso'`` or ``'sae'``); ``df`` is ISO-W.
+    meta : dict
+        ``format`` (``csv``, ``tdx``, ``ttc``), ``columns`` (canonical name ->
+        header and unit read), ``runs`` (how ``run`` was obtained), format
+        specifics (``info`` line, TYDEX header/constants) and, for TTC files,
+        ``segmentation``.
+    """
+
+    df: pd.DataFrame
+    kind: str
+    source: str = ""
+    convention: str = "iso"
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n_runs(self) -> int:
+        """Number of runs (sweeps)."""
+        return int(self.df["run"].nunique()) if "run" in self.df else 1
+
+    def runs(self):
+        """Iterate over ``(run_id, DataFrame)`` pairs."""
+        return iter(self.df.groupby("run", sort=True))
+
+    def conditions(self) -> pd.DataFrame:
+        """One row per run: mean set-point conditions and the number of points.
+
+        Columns ``run``, ``n`` and, where the data have them, ``load``, ``fz`` [N],
+        ``camber`` [rad], ``pressure`` [Pa], ``speed`` [m/s] (means over the run).
+        """
+        cols = [c for c in ("load", "fz", "camber", "pressure", "speed") if c in self.df
+                and pd.api.types.is_numeric_dtype(self.df[c])]
+        g = self.df.groupby("run", sort=True)
+        out = g[cols].mean() if cols else pd.DataFrame(index=g.size().index)
+        out.insert(0, "n", g.size())
+        return out.reset_index()
+
+
+# --------------------------------------------------------------------------- sniffing
+
+def _read_bytes(p: Path) -> bytes:
+    if not p.exists():
+        raise FormatError(f"{p}: no such file")
+    if p.is_dir():
+        raise FormatError(f"{p}: is a folder; give a data file (CSV, TYDEX .tdx or FSAE TTC .dat)")
+    try:
+        return p.read_bytes()
+    except OSError as exc:
+        raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
+
+
+_MAGIC = {b"PK\x03\x04": "a ZIP/Excel workbook; save it as CSV",
+          b"MATLAB 5.0 MAT-file": "a MATLAB .mat file; export the channels to a .dat or CSV",
+          b"\x89HDF": "an HDF5 file; export the channels to CSV",
+          b"%PDF": "a PDF document",
+          b"\xd0\xcf\x11\xe0": "an old Excel/Office file; save it as CSV"}
+
+
+def _decode(p: Path, raw: bytes) -> str:
+    """Text of the file, or FormatError for empty / binary content."""
+    if not raw.strip():
+        raise FormatError(f"{p}: file is empty; expected a CSV with unit headers, a TYDEX .tdx or an FSAE TTC .dat")
+    for magic, what in _MAGIC.items():
+        if raw.startswith(magic):
+            raise FormatError(f"{p}: binary content ({what}); tyrefit reads text tables: CSV with unit headers, "
+                              "TYDEX .tdx, FSAE TTC .dat")
+    head = raw[:8192]
+    if b"\x00" in head:
+        raise FormatError(f"{p}: binary content (NUL bytes); tyrefit reads text tables: CSV with unit headers, "
+                          "TYDEX .tdx, FSAE TTC .dat")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        text = raw.decode("latin-1")
+    sample = text[:8192]
+    bad = sum(1 for ch in sample if (ord(ch) < 32 and ch not in "\t\r\n\f") or 0x7F <= ord(ch) < 0xA0)
+    if bad > 0.02 * len(sample):
+        raise FormatError(f"{p}: binary content ({bad} control bytes in the first {len(sample)}); tyrefit reads "
+                          "text tables: CSV with unit headers, TYDEX .tdx, FSAE TTC .dat")
+    return text
+
+
+def sniff_format(path: str | os.PathLike, text: str | None = None) -> str:
+    """Say which format a file is in: ``tir``, ``chrono_json``, ``json``, ``tdx``, ``ttc`` or ``csv``.
+
+    Raises :class:`FormatError` for empty or binary files.
+    """
+    p = Path(path)
+    if text is None:
+        text = _decode(p, _read_bytes(p))
+    head = text[:8192]
+    up = head.upper()
+    suffix = p.suffix.lower()
+    if suffix == ".tir" or "PROPERTY_FILE_FORMAT" in up or "[MODEL]" in up or (
+            "[LATERAL_COEFFICIENTS]" in up):
+        return "tir"
+    stripped = head.lstrip()
+    if suffix == ".json" or stripped.startswith("{") or stripped.startswith("//"):
+        return "chrono_json" if ("Lateral Coefficients" in head or "Pac89" in head) else "json"
+    if suffix == ".tdx" or "**MEASURCHANNELS" in up or "**HEADER" in up:
+        return "tdx"
+    if suffix == ".dat" or _looks_ttc(head):
+        return "ttc"
+    return "csv"
+
+
+def _looks_ttc(head: str) -> bool:
+    lines = [ln for ln in head.splitlines()[:4]]
+    if len(lines) < 4:
+        return False
+    names, units = lines[1].split("\t"), lines[2].split("\t")
+    upper = {n.strip().upper() for n in names}
+    return len(names) >= 3 and len(names) == len(units) and {"SA", "FY", "FZ"} <= upper | {"SA"} and "FZ" in upper
+
+
+# --------------------------------------------------------------------------- public reader
+
+def read_data(path: str | os.PathLike, convention: str = "iso", kind: str | None = None) -> Dataset:
+    """Read a rig data file into a validated :class:`Dataset`.
+
+    Parameters
+    ----------
+    path : str or path-like
+        CSV with unit headers, TYDEX ``.tdx`` or FSAE TTC ``.dat``.
+    convention : {'iso', 'sae'}
+        sign convention of the file.  ``'sae'`` negates :data:`SAE_FLIPPED`
+        (``fz, fy, mz, slip_angle, lateral_displacement``) to give ISO-W.
+    kind : str, optional
+        one of :data:`KINDS`; detected from the columns when omitted.
+
+    Returns
+    -------
+    Dataset
+
+    Raises
+    ------
+    FormatError
+        empty, binary or unreadable file; a tyre property file given as data.
+    ColumnError
+        missing required column, a quantity given twice, no header.
+    UnitError
+        unknown unit or one that does not fit the quantity.
+    ValueRangeError
+        non-numeric, NaN/inf or implausible values (see :data:`LIMITS`).
+    """
+    p = Path(path)
+    if convention not in ("iso", "sae"):
+        raise DataError(f"{p}: unknown sign convention {convention!r}; accepted: 'iso', 'sae'")
+    if kind is not None and kind not in KINDS:
+        raise DataError(f"{p}: unknown data kind {kind!r}; accepted: " + ", ".join(KINDS)
+                        + _close(kind, KINDS))
+    text = _decode(p, _read_bytes(p))
+    fmt = sniff_format(p, text)
+    if fmt in ("tir", "chrono_json"):
+        raise FormatError(f"{p}: this is a tyre property file ({'.tir' if fmt == 'tir' else 'Chrono JSON'}), "
+                          "not measurement data; use it with compare/sim (or inspect it)")
+    if fmt == "json":
+        raise FormatError(f"{p}: a JSON file is not measurement data; tyrefit reads CSV with unit headers, "
+                          "TYDEX .tdx and FSAE TTC .dat")
+    if fmt == "tdx":
+        from .tydex import parse_tydex
+
+        table = parse_tydex(p, text)
+    elif fmt == "ttc":
+        from .ttc import parse_ttc
+
+        table = parse_ttc(p, text)
+    else:
+        table = parse_csv(p, text)
+    return _finish(table, p, convention, kind)
+
+
+def _close(word, choices) -> str:
+    from ..errors import close_matches
+
+    return close_matches(word, choices)
+
+
+# --------------------------------------------------------------------------- raw tables
+
+@dataclass
+class RawTable:
+    """A parsed table before conversion: canonical names, units, file lines.
+
+    ``values`` maps canonical name -> numpy float array (in the file's units) or
+    an object array of text; ``headers`` maps canonical name -> header as
+    written; ``units`` canonical name -> unit as written (None if none);
+    ``lines`` the 1-based file line of each row (for messages).
+    """
+
+    format: str
+    values: dict[str, np.ndarray]
+    headers: dict[str, str]
+    units: dict[str, str | None]
+    lines: np.ndarray
+    meta: dict[str, Any] = field(default_factory=dict)
+    #: columns kept without unit conversion (unknown units in TTC/TDX channels)
+    raw_columns: set[str] = field(default_factory=set)
+    #: the format reader segments runs itself (TTC)
+    segment: bool = False
+
+
+def map_headers(p: Path, headers: list[str], *, strict_units: bool = True,
+                units: list[str | None] | None = None, where: str = "header") -> tuple[list[str], list[str | None], set[str]]:
+    """Canonical names and units for a list of headers; errors for duplicates and unknown units.
+
+    ``units`` (TTC, TDX) gives units from a separate line instead of ``name [unit]``.
+    With ``strict_units=False`` unknown units on columns outside the glossary are
+    kept raw (returned in the third element) instead of raising.
+    """
+    names: list[str] = []
+    out_units: list[str | None] = []
+    raw: set[str] = set()
+    seen: dict[str, str] = {}
+    for i, h in enumerate(headers):
+        h = str(h).strip()
+        if not h:
+            raise ColumnError(f"{p}: {where} column {i + 1} has no name; every column needs a header like 'fz [N]'")
+        name, unit = nm.parse_header(h)
+        if units is not None:
+            unit = units[i]
+        if name in seen:
+            raise ColumnError(f"{p}: the same quantity is given twice: '{seen[name]}' and '{h}' are both "
+                              f"'{name}'; keep one column per quantity")
+        seen[name] = h
+        if unit is not None and unit.strip() != "":
+            try:
+                unit = nm.check_unit(name, unit)
+            except UnitError as exc:
+                if not strict_units and name not in nm.GLOSSARY:
+                    raw.add(name)
+                else:
+                    raise UnitError(f"{p}: column '{h}': {exc}") from None
+        elif name in nm.GLOSSARY and nm.GLOSSARY[name].dimension not in ("ratio", "count"):
+            q = nm.GLOSSARY[name]
+            if units is None:
+                raise UnitError(f"{p}: column '{h}' has no unit; write it as '{name} [unit]' with one of "
+                                + ", ".join(f"[{u}]" for u in nm.UNITS[q.dimension]))
+            raise UnitError(f"{p}: channel '{h}' has no unit; accepted for a {q.dimension}: "
+                            + ", ".join(nm.UNITS[q.dimension]))
+        else:
+            unit = None
+        names.append(name)
+        out_units.append(unit)
+    return names, out_units, raw
+
+
+def parse_cells(p: Path, name: str, header: str, cells: np.ndarray, lines: np.ndarray,
+                text_ok: bool) -> np.ndarray:
+    """Turn a column of text cells into floats, or keep it as text when allowed.
+
+    Raises ValueRangeError naming the first bad cell (file line, column, value).
+    """
+    s = pd.Series(cells, dtype=object).astype(str).str.strip()
+    num = pd.to_numeric(s, errors="coerce").to_numpy(dtype=float)
+    bad = np.isnan(num) & ~s.str.lower().isin(["nan", "inf", "-inf", "+inf", "infinity", "-infinity"]).to_numpy()
+    if bad.any():
+        if text_ok and bad.mean() > 0.5:
+            return s.to_numpy(dtype=object)
+        i = int(np.flatnonzero(bad)[0])
+        val = s.iloc[i]
+        what = "an empty cell" if val == "" else f"non-numeric value {val!r}"
+        raise ValueRangeError(f"{p}: line {lines[i]}, column '{header}': {what}; a number is needed"
+                              + (f" ({int(bad.sum())} such cells in this column)" if bad.sum() > 1 else ""))
+    return num
+
+
+def parse_csv(p: Path, text: str) -> RawTable:
+    """Parse a CSV with ``name [unit]`` headers (comma, semicolon or tab)."""
+    kept: list[str] = []
+    lines: list[int] = []
+    for i, line in enumerate(text.splitlines(), 1):
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        kept.append(line)
+        lines.append(i)
+    if not kept:
+        raise FormatError(f"{p}: no header line (only comments); a CSV needs a header like 'fz [N],fy [N],...'")
+    first = kept[0]
+    delim = "\t" if "\t" in first else (";" if first.count(";") > first.count(",") else ",")
+    rows = list(csv.reader(io.StringIO("\n".join(kept)), delimiter=delim))
+    header = [h.strip() for h in rows[0]]
+    if len(rows) < 2:
+        raise DataError(f"{p}: no data rows after the header (line {lines[0]})")
+    ncol = len(header)
+    body = rows[1:]
+    lens = np.fromiter((len(r) for r in body), int, len(body))
+    wrong = np.flatnonzero(lens != ncol)
+    if wrong.size:
+        i = int(wrong[0])
+        raise FormatError(f"{p}: line {lines[i + 1]} has {lens[i]} cells, the header has {ncol}; "
+                          f"every row needs one cell per column (delimiter {delim!r})")
+    names, units, _ = map_headers(p, header)
+    line_arr = np.asarray(lines[1:])
+    cells = np.array(body, dtype=object)
+    values: dict[str, np.ndarray] = {}
+    for j, name in enumerate(names):
+        values[name] = parse_cells(p, name, header[j], cells[:, j], line_arr,
+                                   text_ok=name not in nm.GLOSSARY)
+    return RawTable("csv", values, dict(zip(names, header)), dict(zip(names, units)), line_arr)
+
+
+# --------------------------------------------------------------------------- conversion and validation
+
+def _fmt(v: float, unit: str) -> str:
+    x = nm.from_si(v, unit) if unit != "-" else v
+    return f"{x:.6g} {unit}".rstrip()
+
+
+def detect_kind(columns) -> str | None:
+    """The data kind that the columns describe (first match of :data:`REQUIRED`), or None."""
+    cols = set(columns)
+    for k in _DETECT_ORDER:
+        if all(any(a in cols for a in alts) for alts in REQUIRED[k]):
+            return k
+    return None
+
+
+def _missing(kind: str, cols) -> list[str]:
+    return [" or ".join(alts) for alts in REQUIRED[kind] if not any(a in cols for a in alts)]
+
+
+def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
+    cols = set(t.values)
+    # kind ----------------------------------------------------------------
+    if kind is None:
+        kind = detect_kind(cols)
+        if kind == "slip_angle" and "slip_ratio" in cols and "fx" in cols:
+            sa, sr = t.values["slip_angle"], t.values["slip_ratio"]
+            sa_span = np.ptp(nm.to_si(sa, t.units["slip_angle"] or "rad")) if sa.dtype != object and sa.size else 0
+            sr_span = np.ptp(nm.to_si(sr, t.units["slip_ratio"] or "-")) if sr.dtype != object and sr.size else 0
+            if sa_span < 1 * _DEG and sr_span > 0.02:
+                kind = "slip_ratio"
+        if kind is None:
+            found = ", ".join(f"'{t.headers[c]}'" for c in t.values) or "none"
+            raise ColumnError(f"{p}: cannot tell what test this is from its columns ({found}); needed: "
+                              + "; ".join(f"{k}: {', '.join(' or '.join(a) for a in REQUIRED[k])}" for k in KINDS))
+    else:
+        miss = _missing(kind, cols)
+        if miss:
+            found = ", ".join(f"'{t.headers[c]}'" for c in t.values)
+            raise ColumnError(f"{p}: missing required column {' and '.join(repr(m) for m in miss)} for a {kind} "
+                              f"test ({KINDS[kind]}); found {found}")
+    # units -> SI ---------------------------------------------------------
+    data: dict[str, np.ndarray] = {}
+    for name, v in t.values.items():
+        u = t.units.get(name)
+        if v.dtype != object and u is not None and name not in t.raw_columns:
+            v = np.asarray(nm.to_si(v.astype(float), u), dtype=float)
+        data[name] = v
+    # convention ----------------------------------------------------------
+    flipped = []
+    if convention == "sae":
+        for c in SAE_FLIPPED:
+            if c in data and data[c].dtype != object:
+                data[c] = -data[c]
+                flipped.append(c)
+    df = pd.DataFrame(data)
+    df.index = pd.Index(t.lines, name="line")
+    meta: dict[str, Any] = {"format": t.format, **t.meta}
+    meta["columns"] = {c: {"header": t.headers[c], "unit": t.units.get(c),
+                           "si_unit": nm.GLOSSARY[c].si_unit if c in nm.GLOSSARY else None,
+                           **({"converted": False} if c in t.raw_columns else {})} for c in t.values}
+    meta["flipped"] = flipped
+    # finite everywhere ---------------------------------------------------
+    for c in df.columns:
+        if df[c].dtype == object:
+            continue
+        v = df[c].to_numpy()
+        bad = ~np.isfinite(v)
+        if c in t.raw_columns or (t.segment and c not in nm.GLOSSARY):
+            continue
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueRangeError(f"{p}: line {df.index[i]}, column '{t.headers[c]}': value {v[i]} is not a finite "
+                                  f"number; NaN, inf and empty cells are not accepted ({int(bad.sum())} in this column)")
+    # sign hint for SAE files read as ISO ----------------------------------
+    if "fz" in df and convention == "iso" and df["fz"].dtype != object and np.nanmedian(df["fz"]) < 0:
+        raise ValueRangeError(f"{p}: column '{t.headers['fz']}' is mostly negative (median "
+                              f"{np.nanmedian(df['fz']):.4g} N); tyrefit holds loads positive in compression: if the "
+                              "file uses the SAE convention (FZ negative, as FSAE TTC) pass --convention sae")
+    # runs ----------------------------------------------------------------
+    if t.segment:
+        from .segment import segment_record
+
+        df, seg = segment_record(df, kind, source=str(p))
+        meta["segmentation"] = seg
+        meta["runs"] = "segmented from the continuous record (see segmentation)"
+    elif "run" in df:
+        r = df["run"].to_numpy()
+        if r.dtype == object or not np.all(np.isclose(r, np.round(r))):
+            i = int(np.flatnonzero(~np.isclose(np.asarray(r, float), np.round(np.asarray(r, float))))[0]) \
+                if r.dtype != object else 0
+            raise ValueRangeError(f"{p}: line {df.index[i]}, column '{t.headers['run']}': run ids must be integers "
+                                  f"(found {r[i]!r})")
+        meta["runs"] = "given in the file"
+    else:
+        df["run"], how = derive_runs(df, kind)
+        meta["runs"] = how
+    df["run"] = df["run"].astype(int)
+    if kind == "vertical" and "phase" not in df:
+        df["phase"] = load_phase(df["vertical_displacement"].to_numpy(), df["run"].to_numpy())
+        meta["phase"] = "derived from the sign of the displacement increments (+1 load, -1 unload)"
+    # plausibility --------------------------------------------------------
+    _check_ranges(df, kind, p, t.headers)
+    df = df.reset_index(drop=True)
+    order = ["run"] + [c for c in df.columns if c != "run"]
+    df = df[order]
+    if df.empty:
+        raise DataError(f"{p}: no data rows left to use")
+    return Dataset(df=df, kind=kind, source=str(p), convention=convention, meta=meta)
+
+
+def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str]) -> None:
+    for c, (lo, hi, lo_incl, unit) in LIMITS.items():
+        if c not in df or df[c].dtype == object:
+            continue
+        v = df[c].to_numpy()
+        lo_eff = lo
+        incl = lo_incl
+        if c in ("fz", "load") and kind == "vertical":
+            incl = True  # a load/unload cycle starts and ends at zero load
+        low_bad = (v < lo_eff) if incl else (v <= lo_eff)
+        bad = low_bad | (v > hi)
+        if not bad.any():
+            continue
+        i = int(np.flatnonzero(bad)[0])
+        h = headers.get(c, c)
+        if c in ("fz", "load"):
+            acc = f"{'0 <=' if incl else '0 <'} {c} <= {_fmt(hi, 'kN')}"
+            what = "zero or negative load" if v[i] <= 0 else "implausibly large load"
+        elif lo < 0:
+            acc = f"|{c}| <= {_fmt(hi, unit)}"
+            what = "out of range"
+        else:
+            acc = f"0 < {c} <= {_fmt(hi, unit)}"
+            what = "out of range"
+        disp = unit if unit != "kN" else "N"
+        raise ValueRangeError(f"{p}: line {df.index[i]}, column '{h}': {what}, {_fmt(v[i], disp)}; accepted "
+                              f"{acc} ({int(bad.sum())} value{'s' if bad.sum() > 1 else ''} outside)")
+
+
+def _median(x: np.ndarray, w: int) -> np.ndarray:
+    if len(x) < 3 or w <= 1:
+        return x
+    return pd.Series(x).rolling(w, center=True, min_periods=1).median().to_numpy()
+
+
+def derive_runs(df: pd.DataFrame, kind: str) -> tuple[np.ndarray, str]:
+    """Run ids for a table without a ``run`` column, and how they were found.
+
+    A new run starts where a set-point changes (``load``, ``camber``,
+    ``pressure``, ``speed``: step larger than :data:`SETPOINT_TOL`, on a
+    5-sample running median), where the measured ``fz`` of a sweep test steps
+    by more than max(150 N, 8 %) on its running median, and where the sweep
+    variable jumps back by more than half its span in one sample (a new sweep
+    starting again from the same end).
+    """
+    n = len(df)
+    if n == 0:
+        return np.zeros(0, int), "none"
+    start = np.zeros(n, bool)
+    why = []
+    w = 5 if n >= 20 else 1
+    for c, tol in SETPOINT_TOL.items():
+        if c not in df or df[c].dtype == object:
+            continue
+        x = df[c].to_numpy(float)
+        if c == "load":
+            tol = max(1e-6 * np.nanmax(np.abs(x)), 1e-9)
+            s = x
+        else:
+            s = _median(x, w)
+        step = np.abs(np.diff(s)) > tol
+        if step.any():
+            start[1:] |= step
+            why.append(c)
+    if kind in SWEEP_VARIABLE and "fz" in df and "load" not in df:
+        fz = df["fz"].to_numpy(float)
+        s = _median(fz, w)
+        tol = np.maximum(150.0, 0.08 * np.abs(s[:-1]))
+        step = np.abs(np.diff(s)) > tol
+        # a running median smears one step over a few samples: keep the first of each cluster
+        step[1:] &= ~step[:-1]
+        if step.any():
+            start[1:] |= step
+            why.append("fz steps")
+    var = SWEEP_VARIABLE.get(kind)
+    if var and var in df:
+        x = df[var].to_numpy(float)
+        span = np.ptp(x) if n else 0.0
+        if span > 0:
+            d = np.diff(x)
+            # direction of the sweep: the sign most increments have
+            direction = np.sign(np.median(d[d != 0])) if np.any(d != 0) else 0
+            jump = (np.abs(d) > 0.5 * span) & (np.sign(d) == -direction)
+            if jump.any():
+                start[1:] |= jump
+                why.append(f"{var} restarts")
+    run = np.cumsum(start)
+    how = ("derived from changes in " + ", ".join(why)) if why else "one run (no set-point changes found)"
+    return run, how
+
+
+def load_phase(disp: np.ndarray, run: np.ndarray | None = None) -> np.ndarray:
+    """+1 where the deflection grows (loading), -1 where it falls (unloading).
+
+    Zero increments take the phase of the previous sample; the first sample
+    of each run takes the phase of the next.
+    """
+    n = len(disp)
+    if n == 0:
+        return np.zeros(0)
+    d = np.diff(disp, prepend=np.nan)
+    if run is not None:
+        newrun = np.r_[True, np.diff(run) != 0]
+        d[newrun] = np.nan
+    s = pd.Series(np.sign(d)).replace(0.0, np.nan)
+    s = s.ffill()
+    if run is not None:
+        s = s.groupby(pd.Series(run)).bfill()
+    s = s.bfill().fillna(1.0)
+    return s.to_numpy(float)
+
+
+# --------------------------------------------------------------------------- fit checks
+
+FIT_KINDS = ("slip_angle", "slip_ratio", "static")
+
+
+def _as_dataset(x, **kw) -> Dataset:
+    return x if isinstance(x, Dataset) else read_data(x, **kw)
+
+
+def require_patch(ds: Dataset, patch=None) -> Dataset | None:
+    """Check that a static-rig test comes with usable contact-patch data.
+
+    Komana et al. Eq. 1 turns lateral displacement into slip angle through the
+    contact-patch length L(Fz, p), so a static test cannot be fitted without it.
+
+    Parameters
+    ----------
+    ds : Dataset
+    patch : Dataset or path, optional
+
+    Returns
+    -------
+    Dataset or None
+        the patch data set (read if a path was given), None for dynamic data.
+    """
+    if ds.kind != "static":
+        return _as_dataset(patch, kind="patch") if patch is not None else None
+    if patch is None:
+        raise DataError(f"{ds.source}: a static-rig (lateral displacement) test needs contact-patch data to turn "
+                        "displacement into slip angle (Komana et al. Eq. 1); give --patch PATCH.csv with "
+                        "'length [mm]' and 'load [kg]' or 'fz [N]'")
+    pds = _as_dataset(patch, kind="patch")
+    if pds.kind != "patch":
+        raise DataError(f"{pds.source}: is a {pds.kind} test, not contact-patch data; the patch file needs "
+                        "'length [mm]' and 'load [kg]' or 'fz [N]'")
+    if "length" not in pds.df:
+        raise ColumnError(f"{pds.source}: contact-patch data without a 'length' column; Eq. 1 needs the patch "
+                          "length L(Fz): add 'length [mm]'")
+    lc = "fz" if "fz" in pds.df else "load"
+    n_loads = pds.df[lc].round(-1).nunique()
+    if n_loads < 2:
+        raise DataError(f"{pds.source}: contact-patch length at {n_loads} load only; at least 2 loads are needed "
+                        "to interpolate L(Fz)")
+    return pds
+
+
+def check_fittable(ds: Dataset, *, patch=None, min_points: int = 10, min_sweeps: int = 1) -> Dataset | None:
+    """Raise a :class:`DataError` if ``ds`` cannot be fitted; return the patch data (or None).
+
+    Checks, in order: the kind is fittable (slip-angle, slip-ratio or static
+    tests); a static test has contact-patch data (:func:`require_patch`); at
+    least ``min_points`` points and ``min_sweeps`` sweeps; every sweep varies
+    its slip (slip angle by 0.5 deg, slip ratio by 0.01, lateral
+    displacement by 2 mm).
+    """
+    src = ds.source
+    if ds.kind not in FIT_KINDS:
+        raise DataError(f"{src}: a {ds.kind} table cannot be fitted to a tyre model; fit needs slip-angle, "
+                        "slip-ratio or static-rig lateral tests")
+    pds = require_patch(ds, patch)
+    n = len(ds.df)
+    if n < min_points:
+        raise DataError(f"{src}: too few points to fit: {n}; at least {min_points} are needed")
+    if ds.n_runs < min_sweeps:
+        raise DataError(f"{src}: too few sweeps to fit: {ds.n_runs}; at least {min_sweeps} are needed")
+    var = SWEEP_VARIABLE[ds.kind]
+    spans = ds.df.groupby("run")[var].agg(lambda s: float(np.ptp(s.to_numpy())))
+    flat = spans[spans < MIN_SWEEP_SPAN[var]]
+    if len(flat):
+        r = int(flat.index[0])
+        cond = ds.conditions().set_index("run").loc[r]
+        unit = {"slip_angle": "deg", "slip_ratio": "-", "lateral_displacement": "mm"}[var]
+        desc = f"fz {cond['fz']:.0f} N" if "fz" in cond else ""
+        raise DataError(f"{src}: sweep {r} ({desc}, {int(cond['n'])} points) has no {var} variation "
+                        f"(span {_fmt(flat.iloc[0], unit)}); each sweep needs at least "
+                        f"{_fmt(MIN_SWEEP_SPAN[var], unit)} ({len(flat)} such sweep{'s' if len(flat) > 1 else ''})")
+    return pds
