@@ -10,9 +10,21 @@ The public functions take and return **SI and ISO-W**: ``fz`` [N] positive in
 compression, ``slip_angle`` and ``camber`` [rad], ``slip_ratio`` [-], and
 return ``fy``, ``fx`` [N] and ``mz`` [N*m] in ISO-W, where a positive slip
 angle gives a negative lateral force.  The ISO-W <-> PAC89 mapping lives in
-:func:`_to_pac` and :func:`_from_pac` and nowhere else in tyrefit: the slip
-angle is negated on the way in, ``fy`` and ``mz`` on the way out; camber,
-slip ratio and ``fx`` keep their sign.
+:func:`_to_pac` and :func:`_from_pac` and nowhere else in tyrefit:
+``fy`` and ``mz`` are negated on the way out; slip angle, camber, slip ratio
+and ``fx`` keep their sign.
+
+Why only one flip: PAC89's "modified SAE" axes have y to the right and z
+down (ISO-W: y left, z up), so lateral force and aligning moment change sign
+between the two, while its slip angle is SAE's negated, which is ISO-W's
+slip angle.  Negating *both* the slip angle and Fy (as Chrono does with its
+own slip-angle definition, in which a positive angle gives a positive force)
+would leave the odd part of Fy(alpha) unchanged and give a positive Fy for
+a positive ISO-W slip angle with a3 > 0, against the ISO-W data convention
+of DESIGN.md.  With the mapping here, a normal tyre (a3 > 0) gives
+Fy < 0 and Mz > 0 for a positive ISO-W slip angle, and camber thrust
+(a11 > 0) pushes towards the side the wheel top leans to (Fy < 0 for
+positive ISO-W inclination).
 
 The model is pure: no validation, no clipping of loads; NumPy broadcasting
 over ``fz``, ``slip_angle``, ``camber`` and over array-valued coefficients.
@@ -46,6 +58,10 @@ __all__ = [
     "lateral_force",
     "longitudinal_force",
     "aligning_moment",
+    "magic_formula_partials",
+    "lateral_jacobian",
+    "longitudinal_jacobian",
+    "aligning_jacobian",
 ]
 
 LATERAL: tuple[str, ...] = tuple(f"a{i}" for i in range(14))
@@ -77,9 +93,9 @@ def magic_formula(x, B, C, D, E):
 
 # --- the one place where ISO-W meets PAC89 ------------------------------------
 def _to_pac(fz, slip_angle, camber):
-    """SI/ISO-W inputs -> PAC89 inputs: Fz [kN], alpha [deg] (negated), gamma [deg]."""
+    """SI/ISO-W inputs -> PAC89 inputs: Fz [kN], alpha [deg], gamma [deg] (signs kept)."""
     return (np.asarray(fz, dtype=float) * 1e-3,
-            -np.asarray(slip_angle, dtype=float) * _RAD2DEG,
+            np.asarray(slip_angle, dtype=float) * _RAD2DEG,
             np.asarray(camber, dtype=float) * _RAD2DEG)
 
 
@@ -158,7 +174,7 @@ def lateral_force(p: Mapping[str, float], fz, slip_angle, camber=0.0, *, return_
     Notes
     -----
     Fy_pac = D sin(C atan(B x - E (B x - atan B x))) + Sv with x = alpha + Sh,
-    alpha = -slip_angle in degrees, x clamped to +/-89.5 deg as in Chrono;
+    alpha = slip_angle in degrees, x clamped to +/-89.5 deg as in Chrono;
     Fy = -Fy_pac.
     """
     fzk, alpha, gamma = _to_pac(fz, slip_angle, camber)
@@ -188,3 +204,170 @@ def aligning_moment(p: Mapping[str, float], fz, slip_angle, camber=0.0, *, retur
     x = np.clip(alpha + f.Sh, -X_LIMIT_DEG, X_LIMIT_DEG)
     mz = _from_pac(magic_formula(x, f.B, f.C, f.D, f.E) + f.Sv)
     return (mz, f) if return_factors else mz
+
+
+# --- analytic Jacobians (for fitting) -------------------------------------------
+def magic_formula_partials(x, B, C, D, E):
+    """Magic Formula value and its partial derivatives.
+
+    Returns ``(y, dy_dx, dy_dB, dy_dC, dy_dD, dy_dE)`` for
+    y = D sin(C atan(Phi)), Phi = (1 - E) B x + E atan(B x), each a partial
+    derivative with the other arguments held constant (B is *not* expanded
+    into BCD / (C D) here; see :func:`_factor_partials`).
+    """
+    u = B * x
+    atu = np.arctan(u)
+    phi = u - E * (u - atu)
+    at_phi = np.arctan(phi)
+    theta = C * at_phi
+    s, c = np.sin(theta), np.cos(theta)
+    y = D * s
+    dy_dphi = D * c * C / (1.0 + phi * phi)
+    dphi_du = (1.0 - E) + E / (1.0 + u * u)
+    g = dy_dphi * dphi_du
+    return y, g * B, g * x, D * c * at_phi, s, -dy_dphi * (u - atu)
+
+
+def _factor_partials(x, f: Factors):
+    """y and dy/d(C, D, BCD, E, Sh, Sv) with B = BCD / (C D) expanded (PAC89 units)."""
+    y, dx, dB, dC, dD, dE = magic_formula_partials(x, f.B, f.C, f.D, f.E)
+    dBCD = dB / (f.C * f.D)
+    return (y + f.Sv, {"C": dC - dB * f.B / f.C, "D": dD - dB * f.B / f.D, "BCD": dBCD,
+                       "E": dE, "Sh": dx, "Sv": 1.0})
+
+
+def _assemble(names, all_names, columns, n):
+    out = np.empty((n, len(names)))
+    for j, name in enumerate(names):
+        if name not in all_names:
+            raise KeyError(f"{name} is not a coefficient of this part ({all_names[0]}..{all_names[-1]})")
+        out[:, j] = np.broadcast_to(columns[name], (n,))
+    return out
+
+
+def lateral_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=LATERAL):
+    """Lateral force [N] (ISO-W) and its analytic Jacobian wrt PAC89 coefficients.
+
+    Parameters
+    ----------
+    p : mapping
+        ``a0``..``a13`` (PAC89 units).
+    fz, slip_angle, camber : array_like
+        [N], [rad], [rad], SI and ISO-W, broadcast to a common 1-D shape.
+    names : sequence of str
+        coefficients to differentiate with respect to (columns of the Jacobian).
+
+    Returns
+    -------
+    fy : ndarray, shape (n,)
+        lateral force [N], ISO-W (identical to :func:`lateral_force`).
+    jac : ndarray, shape (n, len(names))
+        d fy / d coefficient [N per coefficient unit], ISO-W.
+
+    Notes
+    -----
+    Chain rule through C = a0, D = a1 Fz^2 + a2 Fz,
+    BCD = a3 sin(2 atan(Fz/a4)) (1 - a5 |gamma|), B = BCD/(C D), E = a6 Fz + a7,
+    Sh = a8 gamma + a9 Fz + a10, Sv = a11 Fz gamma + a12 Fz + a13.  Where
+    Chrono's +/-89.5 deg clamp on x is active, dF/dSh = 0.
+    """
+    fzk, alpha, gamma = _to_pac(fz, slip_angle, camber)
+    fzk, alpha, gamma = np.broadcast_arrays(np.atleast_1d(fzk), np.atleast_1d(alpha), np.atleast_1d(gamma))
+    f = lateral_factors(p, fzk, gamma)
+    xs = alpha + f.Sh
+    x = np.clip(xs, -X_LIMIT_DEG, X_LIMIT_DEG)
+    y, d = _factor_partials(x, f)
+    dSh = np.where(np.abs(xs) < X_LIMIT_DEG, d["Sh"], 0.0)
+    ag = np.abs(gamma)
+    z = fzk / p["a4"]
+    s2 = np.sin(2.0 * np.arctan(z))
+    cam = 1.0 - p["a5"] * ag
+    dBCD = d["BCD"]
+    cols = {
+        "a0": d["C"],
+        "a1": d["D"] * fzk**2,
+        "a2": d["D"] * fzk,
+        "a3": dBCD * s2 * cam,
+        "a4": dBCD * p["a3"] * cam * np.cos(2.0 * np.arctan(z)) * (-2.0 * fzk / (p["a4"] ** 2 + fzk**2)),
+        "a5": dBCD * (-p["a3"] * s2 * ag),
+        "a6": d["E"] * fzk,
+        "a7": d["E"],
+        "a8": dSh * gamma,
+        "a9": dSh * fzk,
+        "a10": dSh,
+        "a11": fzk * gamma,
+        "a12": fzk,
+        "a13": np.ones_like(fzk),
+    }
+    n = fzk.shape[0]
+    return _from_pac(y), _from_pac(_assemble(tuple(names), LATERAL, cols, n))
+
+
+def longitudinal_jacobian(p: Mapping[str, float], fz, slip_ratio, names=LONGITUDINAL):
+    """Longitudinal force [N] and its analytic Jacobian wrt ``b0``..``b10``.
+
+    Same layout as :func:`lateral_jacobian`; C = b0, D = b1 Fz^2 + b2 Fz,
+    BCD = (b3 Fz^2 + b4 Fz) exp(-b5 Fz), E = b6 Fz^2 + b7 Fz + b8,
+    Sh = b9 Fz + b10 (Fz in kN, slip in percent).
+    """
+    fzk = np.atleast_1d(np.asarray(fz, dtype=float) * 1e-3)
+    kappa = np.atleast_1d(np.asarray(slip_ratio, dtype=float) * 100.0)
+    fzk, kappa = np.broadcast_arrays(fzk, kappa)
+    f = longitudinal_factors(p, fzk)
+    y, d = _factor_partials(kappa + f.Sh, f)
+    ex = np.exp(-p["b5"] * fzk)
+    bcd = (p["b3"] * fzk**2 + p["b4"] * fzk) * ex
+    cols = {
+        "b0": d["C"],
+        "b1": d["D"] * fzk**2,
+        "b2": d["D"] * fzk,
+        "b3": d["BCD"] * fzk**2 * ex,
+        "b4": d["BCD"] * fzk * ex,
+        "b5": d["BCD"] * (-fzk * bcd),
+        "b6": d["E"] * fzk**2,
+        "b7": d["E"] * fzk,
+        "b8": d["E"],
+        "b9": d["Sh"] * fzk,
+        "b10": d["Sh"],
+    }
+    return y, _assemble(tuple(names), LONGITUDINAL, cols, fzk.shape[0])
+
+
+def aligning_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=ALIGNING):
+    """Aligning moment [N*m] (ISO-W) and its analytic Jacobian wrt ``c0``..``c17``."""
+    fzk, alpha, gamma = _to_pac(fz, slip_angle, camber)
+    fzk, alpha, gamma = np.broadcast_arrays(np.atleast_1d(fzk), np.atleast_1d(alpha), np.atleast_1d(gamma))
+    f = aligning_factors(p, fzk, gamma)
+    xs = alpha + f.Sh
+    x = np.clip(xs, -X_LIMIT_DEG, X_LIMIT_DEG)
+    y, d = _factor_partials(x, f)
+    dSh = np.where(np.abs(xs) < X_LIMIT_DEG, d["Sh"], 0.0)
+    ag = np.abs(gamma)
+    ex = np.exp(-p["c5"] * fzk)
+    law = p["c3"] * fzk**2 + p["c4"] * fzk
+    cam = 1.0 - p["c6"] * ag
+    elaw = p["c7"] * fzk**2 + p["c8"] * fzk + p["c9"]
+    ecam = 1.0 - p["c10"] * ag
+    dBCD = d["BCD"]
+    cols = {
+        "c0": d["C"],
+        "c1": d["D"] * fzk**2,
+        "c2": d["D"] * fzk,
+        "c3": dBCD * fzk**2 * cam * ex,
+        "c4": dBCD * fzk * cam * ex,
+        "c5": dBCD * (-fzk * law * cam * ex),
+        "c6": dBCD * (-law * ag * ex),
+        "c7": d["E"] * fzk**2 * ecam,
+        "c8": d["E"] * fzk * ecam,
+        "c9": d["E"] * ecam,
+        "c10": d["E"] * (-elaw * ag),
+        "c11": dSh * gamma,
+        "c12": dSh * fzk,
+        "c13": dSh,
+        "c14": fzk**2 * gamma,
+        "c15": fzk * gamma,
+        "c16": fzk,
+        "c17": np.ones_like(fzk),
+    }
+    n = fzk.shape[0]
+    return _from_pac(y), _from_pac(_assemble(tuple(names), ALIGNING, cols, n))
