@@ -1,0 +1,595 @@
+"""Batch fitting of a tyre database: local processes or a Dask cluster.
+
+:func:`batch_fit` fits a PAC89 tyre to every data file it is given (CSV with
+unit headers, TYDEX ``.tdx``, FSAE TTC ``.dat``) and writes, in the output
+folder,
+
+* ``<name>.tir`` per tyre (``<name>`` is the file stem, or its path below the
+  common root when two files share a stem);
+* ``status/<name>.json`` per tyre, written by the worker as soon as the tyre
+  is done: ``status`` (``ok``, ``failed``, ``error``, ``skipped``), the
+  one-line error, fit quality and timings;
+* ``summary.csv`` and ``index.html``, a table of every tyre's fit quality.
+
+Execution
+---------
+The unit of work is one file *path*: each worker reads its file, fits, and
+writes the ``.tir`` and the status record itself, so nothing bigger than a
+path and a small dict of numbers crosses a process boundary.
+
+* ``scheduler=None`` (default): a :class:`concurrent.futures.ProcessPoolExecutor`
+  of ``workers`` processes (default: the CPUs this process may use).  It is
+  in the standard library, so Dask stays an optional dependency
+  (``pip install tyrefit[dask]``), and it adds no task-graph overhead to tasks
+  that last a fraction of a second.  On POSIX the pool uses the
+  ``forkserver`` start method with tyrefit's reading and fitting modules
+  preloaded: the imports (NumPy, pandas, SciPy, lmfit) happen once in the
+  fork server and every worker starts warm, without the fork-with-threads
+  hazards of plain ``fork``.  ``workers=1`` runs in this process.
+* ``scheduler='tcp://host:8786'`` (or a ``distributed.Client``): the same
+  task function is mapped over the paths on that Dask cluster; imports are
+  warmed once per worker with ``Client.run``.  Workers must see the same
+  file system as the caller (the usual shared-storage set-up).
+
+Resuming
+--------
+A tyre whose ``.tir`` exists in the output folder and is newer than its data
+file is skipped (its previous status record is reused in the summary) unless
+``force``.  A ``.tir`` older than its data file is refitted when a status
+record shows that the batch wrote it (it is stale); a ``.tir`` the batch did
+not write is never replaced without ``force`` (that tyre is reported as
+failed).  ``summary.csv`` and ``index.html`` belong to the batch folder and
+are rewritten (atomically) on every run.
+
+A bad file never stops the batch: it is reported with status ``failed`` and
+the one-line :class:`~tyrefit.errors.TyrefitError` message.  Any other
+exception is a bug in tyrefit; the tyre gets status ``error`` with the
+exception and the traceback in its status record, and the batch goes on.
+"""
+
+from __future__ import annotations
+
+import glob
+import json
+import math
+import os
+import re
+import sys
+import time
+import traceback
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import DataError, OutputExistsError, TyrefitError
+from .io.outputs import write_text
+
+__all__ = ["BatchResult", "batch_fit", "find_data_files", "fit_file", "fit_quality", "SUMMARY_COLUMNS",
+           "DATA_SUFFIXES"]
+
+#: data-file suffixes a folder is searched for (case-insensitive)
+DATA_SUFFIXES = (".csv", ".tdx", ".dat")
+#: columns of ``summary.csv`` in order
+SUMMARY_COLUMNS = ("name", "status", "points", "sweeps", "rmse", "r2", "peak_mu", "fz_min", "fz_max",
+                   "time_s", "error", "source", "tir")
+#: modules every worker needs; imported once per worker (fork-server preload / Client.run)
+_WARM_MODULES = ("tyrefit.batch", "tyrefit.io.readers", "tyrefit.fitting", "tyrefit.io.tir")
+_STATUS_DIR = "status"
+
+
+# --------------------------------------------------------------------------- discovery
+
+def find_data_files(source: str | os.PathLike | Iterable[str | os.PathLike],
+                    exclude: str | os.PathLike | None = None) -> list[Path]:
+    """The data files named by a folder, a glob pattern, a file, or a list of those.
+
+    A folder is searched recursively for :data:`DATA_SUFFIXES`; a glob pattern
+    (``*``, ``?``, ``[``; ``**`` recursive) keeps every matching file; files
+    under ``exclude`` (the output folder) are left out.  The result is sorted
+    and free of duplicates.
+
+    Raises
+    ------
+    DataError
+        nothing found, or a named file / folder does not exist.
+    """
+    items = [source] if isinstance(source, (str, os.PathLike)) else list(source)
+    ex = Path(exclude).resolve() if exclude is not None else None
+    found: dict[Path, None] = {}
+    for item in items:
+        s = str(item)
+        p = Path(s)
+        if p.is_dir():
+            cands = sorted(q for q in p.rglob("*") if q.is_file() and q.suffix.lower() in DATA_SUFFIXES)
+        elif p.is_file():
+            cands = [p]
+        elif glob.has_magic(s):
+            cands = sorted(Path(q) for q in glob.glob(s, recursive=True) if Path(q).is_file())
+        else:
+            raise DataError(f"{s}: no such file or folder; give a folder of data files (CSV, .tdx, .dat), "
+                            "a glob pattern such as 'db/*.csv', or a data file")
+        for q in cands:
+            r = q.resolve()
+            if ex is not None and (r == ex or ex in r.parents):
+                continue
+            found.setdefault(r, None)
+    if not found:
+        raise DataError(f"{', '.join(str(i) for i in items)}: no data files found (looked for "
+                        + ", ".join(f"*{s}" for s in DATA_SUFFIXES) + ")")
+    return sorted(found)
+
+
+_UNSAFE = re.compile(r"[^A-Za-z0-9._+-]+")
+
+
+def _tyre_names(paths: Sequence[Path]) -> list[str]:
+    """File-system-safe, unique tyre names: the stem, or the path below the common root."""
+    stems = [_UNSAFE.sub("_", p.stem) or "tyre" for p in paths]
+    dup = {s for s in stems if stems.count(s) > 1}
+    if not dup:
+        return stems
+    root = Path(os.path.commonpath([str(p.parent) for p in paths]))
+    names = []
+    for p, s in zip(paths, stems):
+        if s in dup:
+            rel = p.relative_to(root).with_suffix("")
+            s = _UNSAFE.sub("_", "__".join(rel.parts)) + ("_" + p.suffix.lstrip(".").lower() if p.suffix else "")
+        names.append(s)
+    seen: dict[str, int] = {}
+    out = []
+    for s in names:  # still equal (same stem and suffix case only): number them
+        k = seen.get(s, 0)
+        seen[s] = k + 1
+        out.append(s if k == 0 else f"{s}_{k}")
+    return out
+
+
+# --------------------------------------------------------------------------- one tyre (runs in a worker)
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or exc.__class__.__name__
+
+
+def fit_quality(tyre, ds) -> dict[str, Any]:
+    """Fit quality of ``tyre`` on data set ``ds``: rmse [N], r2, peak_mu, points, sweeps, load range.
+
+    Slip-angle data are compared in lateral force, slip-ratio data in
+    longitudinal force, static-rig data in friction coefficient Fy/Fz (whose
+    rmse is then dimensionless).  ``peak_mu`` is the model's peak friction
+    coefficient D/Fz (Fy, or Fx for slip-ratio data) at the median load of the data.
+    """
+    from .models import pac89
+
+    df = ds.df
+    fz = df["fz"].to_numpy(float) if "fz" in df else None
+    out: dict[str, Any] = {"points": int(len(df)), "sweeps": int(ds.n_runs)}
+    y = yhat = None
+    if ds.kind == "slip_angle":
+        cam = df["camber"].to_numpy(float) if "camber" in df else 0.0
+        y, yhat = df["fy"].to_numpy(float), tyre.fy(fz, df["slip_angle"].to_numpy(float), cam)
+    elif ds.kind == "slip_ratio":
+        y, yhat = df["fx"].to_numpy(float), tyre.fx(fz, df["slip_ratio"].to_numpy(float))
+    if y is not None:
+        res = y - yhat
+        ss_tot = float(np.sum((y - y.mean()) ** 2))
+        out["rmse"] = float(np.sqrt(np.mean(res**2)))
+        out["r2"] = float(1.0 - np.sum(res**2) / ss_tot) if ss_tot > 0 else math.nan
+    if fz is not None and fz.size:
+        fzm = float(np.median(fz))
+        out["fz_min"], out["fz_max"] = float(fz.min()), float(fz.max())
+        if ds.kind == "slip_ratio":
+            f = pac89.longitudinal_factors(tyre.coefficients, fzm * 1e-3)
+        else:
+            f = pac89.lateral_factors(tyre.coefficients, fzm * 1e-3, 0.0)
+        out["peak_mu"] = float(abs(f.D) / fzm)
+    return out
+
+
+def _fit_quality_from_result(result, tyre, ds) -> dict[str, Any]:
+    q = fit_quality(tyre, ds)
+    if "rmse" not in q:  # static-rig data: the fitter knows what it fitted
+        for key in ("rmse", "r2"):
+            v = getattr(result, key, None)
+            if isinstance(v, (int, float)):
+                q[key] = float(v)
+    return q
+
+
+def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2", convention: str = "iso",
+             status_path: str | None = None) -> dict[str, Any]:
+    """Read one data file, fit PAC89, write the ``.tir`` (replacing it) and the status record.
+
+    This is the task every worker runs; it never raises for a bad file.
+
+    Returns
+    -------
+    dict
+        the status record (see :data:`SUMMARY_COLUMNS`).
+    """
+    t0 = time.perf_counter()
+    rec: dict[str, Any] = {"name": name or Path(source).stem, "status": "failed", "source": str(source),
+                           "tir": str(tir), "error": ""}
+    try:
+        from .fitting import fit_pac89
+        from .io.readers import read_data
+
+        ds = read_data(source, convention=convention)
+        result = fit_pac89(ds, cost=cost)
+        tyre = result.tyre
+        tyre.to_tir(tir, force=True)  # the caller decided that this .tir may be (re)written
+        rec.update(_fit_quality_from_result(result, tyre, ds))
+        rec["status"] = "ok"
+    except TyrefitError as exc:
+        rec["error"] = _one_line(exc)
+    except Exception as exc:  # a bug: record it with its traceback, keep the batch going
+        rec["status"] = "error"
+        rec["error"] = f"internal error {exc.__class__.__name__}: {_one_line(exc)}"
+        rec["traceback"] = traceback.format_exc()
+    rec["time_s"] = time.perf_counter() - t0
+    rec["finished"] = time.time()
+    if status_path:
+        try:
+            write_text(status_path, json.dumps(_jsonable(rec), indent=1) + "\n", force=True)
+        except OSError as exc:  # the record still reaches the caller
+            rec["error"] = (rec["error"] + "; " if rec["error"] else "") + f"status record not written: {exc}"
+    return rec
+
+
+def _fit_task(task: tuple) -> dict[str, Any]:
+    source, tir, name, cost, convention, status_path = task
+    return fit_file(source, tir, name=name, cost=cost, convention=convention, status_path=status_path)
+
+
+def _jsonable(rec: dict) -> dict:
+    out = {}
+    for k, v in rec.items():
+        if isinstance(v, float) and not math.isfinite(v):
+            v = None
+        elif isinstance(v, np.generic):
+            v = v.item()
+        out[k] = v
+    return out
+
+
+def _warm_imports() -> None:
+    """Import what a worker needs once (pool initializer / ``Client.run``)."""
+    import importlib
+
+    for m in _WARM_MODULES:
+        try:
+            importlib.import_module(m)
+        except ImportError:  # reported per tyre when the task runs
+            pass
+
+
+# --------------------------------------------------------------------------- result
+
+@dataclass
+class BatchResult:
+    """What :func:`batch_fit` did.
+
+    Attributes
+    ----------
+    out_dir : Path
+    records : list of dict
+        one status record per tyre, sorted by name (:data:`SUMMARY_COLUMNS`).
+    elapsed : float
+        wall time of the whole batch [s].
+    backend : str
+        ``'serial'``, ``'processes(N)'`` or ``'dask(<address>)'``.
+    summary_csv, report : Path or None
+        the summary table and HTML report written.
+    """
+
+    out_dir: Path
+    records: list[dict[str, Any]] = field(default_factory=list)
+    elapsed: float = 0.0
+    backend: str = ""
+    summary_csv: Path | None = None
+    report: Path | None = None
+
+    def count(self, status: str) -> int:
+        return sum(1 for r in self.records if r.get("status") == status)
+
+    @property
+    def n_ok(self) -> int:
+        return self.count("ok")
+
+    @property
+    def n_skipped(self) -> int:
+        return self.count("skipped")
+
+    @property
+    def n_failed(self) -> int:
+        """Tyres that failed (bad input) or hit an internal error."""
+        return self.count("failed") + self.count("error")
+
+    @property
+    def failed(self) -> list[dict[str, Any]]:
+        return [r for r in self.records if r.get("status") in ("failed", "error")]
+
+    def table(self):
+        """The summary as a pandas DataFrame (one row per tyre)."""
+        import pandas as pd
+
+        return pd.DataFrame([{c: r.get(c) for c in SUMMARY_COLUMNS} for r in self.records],
+                            columns=list(SUMMARY_COLUMNS))
+
+    def __repr__(self) -> str:
+        return (f"BatchResult({len(self.records)} tyres: {self.n_ok} ok, {self.n_skipped} skipped, "
+                f"{self.n_failed} failed; {self.elapsed:.1f} s on {self.backend})")
+
+
+# --------------------------------------------------------------------------- orchestration
+
+def _plan(paths: Sequence[Path], out: Path, force: bool) -> tuple[list[tuple], list[dict]]:
+    """Tasks to run and records of tyres not to run (skipped, or refused)."""
+    tasks, done = [], []
+    sdir = out / _STATUS_DIR
+    for path, name in zip(paths, _tyre_names(paths)):
+        tir, status = out / f"{name}.tir", sdir / f"{name}.json"
+        if tir.exists() and not force:
+            prev = _read_status(status)
+            fresh = tir.stat().st_mtime >= path.stat().st_mtime
+            if fresh:
+                rec = {c: prev.get(c) for c in SUMMARY_COLUMNS if c in prev} if prev else {}
+                rec.update(name=name, status="skipped", source=str(path), tir=str(tir), time_s=0.0,
+                           error="" if prev else "up to date; no status record, fit quality unknown")
+                done.append(rec)
+                continue
+            if not prev:  # not written by this batch: never replace without force
+                err = OutputExistsError(f"{tir}: exists, is older than {path.name} and was not written by "
+                                        "'tyrefit batch fit'; pass --force to replace it")
+                done.append({"name": name, "status": "failed", "source": str(path), "tir": str(tir),
+                             "error": _one_line(err), "time_s": 0.0})
+                continue
+        tasks.append((str(path), str(tir), name, None, None, str(status)))
+    return tasks, done
+
+
+def _read_status(path: Path) -> dict | None:
+    try:
+        rec = json.loads(path.read_text(encoding="utf-8"))
+        return rec if isinstance(rec, dict) else None
+    except (OSError, ValueError):
+        return None
+
+
+def _progress(total: int, enabled: bool, desc: str):
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, disable=not enabled or total == 0, file=sys.stderr, unit="tyre", desc=desc,
+                dynamic_ncols=True, leave=True)
+
+
+def _default_workers() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def _run_serial(tasks, bar):
+    _warm_imports()
+    out = []
+    for t in tasks:
+        out.append(_fit_task(t))
+        bar.update(1)
+    return out
+
+
+def _pool_context():
+    import multiprocessing as mp
+
+    if sys.platform != "win32" and "forkserver" in mp.get_all_start_methods():
+        ctx = mp.get_context("forkserver")
+        ctx.set_forkserver_preload(list(_WARM_MODULES))
+        return ctx
+    return mp.get_context("spawn")
+
+
+def _run_processes(tasks, workers: int, bar):
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    out = []
+    with ProcessPoolExecutor(max_workers=workers, mp_context=_pool_context(),
+                             initializer=_warm_imports) as ex:
+        futs = {ex.submit(_fit_task, t): t for t in tasks}
+        for fut in as_completed(futs):
+            try:
+                rec = fut.result()
+            except BrokenProcessPool as exc:  # a worker died (out of memory, killed)
+                rec = _lost(futs[fut], exc)
+            out.append(rec)
+            bar.update(1)
+    return out
+
+
+def _lost(task: tuple, exc: BaseException) -> dict[str, Any]:
+    source, tir, name = task[:3]
+    return {"name": name, "status": "error", "source": source, "tir": tir, "time_s": math.nan,
+            "error": f"worker lost: {exc.__class__.__name__}: {_one_line(exc)}"}
+
+
+def _dask_client(scheduler):
+    try:
+        from distributed import Client
+    except ImportError:
+        raise DataError("--scheduler needs Dask's distributed scheduler; install it with "
+                        "'pip install tyrefit[dask]' (or dask[distributed])") from None
+    if isinstance(scheduler, Client):
+        return scheduler, False
+    try:
+        return Client(str(scheduler), timeout="10s", set_as_default=False), True
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise DataError(f"cannot connect to the Dask scheduler {scheduler!r} ({_one_line(exc)}); give its "
+                        "address as tcp://host:8786") from None
+
+
+def _run_dask(tasks, client, bar):
+    from distributed import as_completed
+
+    try:
+        client.run(_warm_imports)
+    except Exception:  # noqa: BLE001 - warming is an optimisation only
+        pass
+    futs = client.map(_fit_task, tasks, pure=False, key=[f"tyrefit-fit-{t[2]}-{os.urandom(4).hex()}"
+                                                          for t in tasks])
+    index = {f.key: t for f, t in zip(futs, tasks)}
+    out = []
+    for fut in as_completed(futs):
+        try:
+            rec = fut.result()
+        except Exception as exc:  # noqa: BLE001 - KilledWorker, lost connection, ...
+            rec = _lost(index[fut.key], exc)
+        out.append(rec)
+        bar.update(1)
+        fut.release()
+    return out
+
+
+def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, scheduler=None,
+              force: bool = False, progress: bool = True, cost: str = "l2", convention: str = "iso",
+              summary: bool = True) -> BatchResult:
+    """Fit a PAC89 tyre to every data file; write ``.tir`` files, status records and a summary.
+
+    Parameters
+    ----------
+    paths : path, glob pattern or iterable of them
+        a folder (searched recursively for CSV, ``.tdx``, ``.dat``), a glob
+        pattern, a data file, or a list of those.
+    out_dir : path
+        output folder (created).  Files under it are never taken as input.
+    workers : int, optional
+        local worker processes; default the CPUs available; 1 runs in this
+        process.  Ignored with ``scheduler``.
+    scheduler : str or distributed.Client, optional
+        Dask scheduler address (``tcp://host:8786``) or a connected client.
+    force : bool
+        refit tyres whose ``.tir`` is up to date, and replace ``.tir`` files
+        the batch did not write.
+    progress : bool
+        show a progress bar on stderr.
+    cost : {'l2', 'l1'}
+        fit cost (``tyrefit.fitting.fit_pac89``).
+    convention : {'iso', 'sae'}
+        sign convention of the data files.
+    summary : bool
+        write ``summary.csv`` and ``index.html``.
+
+    Returns
+    -------
+    BatchResult
+
+    Raises
+    ------
+    DataError
+        no data files, bad options, or an unreachable scheduler.
+    """
+    if cost not in ("l1", "l2"):
+        raise DataError(f"unknown fit cost {cost!r}; accepted: 'l1', 'l2'")
+    if convention not in ("iso", "sae"):
+        raise DataError(f"unknown sign convention {convention!r}; accepted: 'iso', 'sae'")
+    if workers is not None and int(workers) < 1:
+        raise DataError(f"--workers {workers}: need at least 1 worker process")
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise DataError(f"{out}: exists and is not a folder; --out needs a folder for the .tir files")
+    files = find_data_files(paths, exclude=out)
+    t0 = time.perf_counter()
+    out.mkdir(parents=True, exist_ok=True)
+    (out / _STATUS_DIR).mkdir(exist_ok=True)
+    tasks, records = _plan(files, out, force)
+    tasks = [(s, t, n, cost, convention, st) for (s, t, n, _, _, st) in tasks]
+
+    client, own_client = (None, False)
+    if scheduler is not None:
+        client, own_client = _dask_client(scheduler)
+        backend = f"dask({getattr(client, 'scheduler', None) and client.scheduler.address})"
+    else:
+        n = min(int(workers) if workers else _default_workers(), max(len(tasks), 1))
+        backend = "serial" if n <= 1 else f"processes({n})"
+    try:
+        with _progress(len(tasks), progress, "batch fit") as bar:
+            if not tasks:
+                pass
+            elif client is not None:
+                records += _run_dask(tasks, client, bar)
+            elif backend == "serial":
+                records += _run_serial(tasks, bar)
+            else:
+                records += _run_processes(tasks, n, bar)
+    finally:
+        if own_client:
+            client.close()
+    records.sort(key=lambda r: r["name"])
+    res = BatchResult(out_dir=out, records=records, elapsed=time.perf_counter() - t0, backend=backend)
+    if summary:
+        res.summary_csv, res.report = write_summary(res)
+    return res
+
+
+# --------------------------------------------------------------------------- summary
+
+def _csv_cell(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return "" if not math.isfinite(v) else repr(v)
+    s = str(v)
+    if any(ch in s for ch in ',"\n\r'):
+        s = '"' + s.replace('"', '""').replace("\n", " ").replace("\r", " ") + '"'
+    return s
+
+
+def summary_csv_text(records: Sequence[dict]) -> str:
+    """The summary table as CSV text, units in the headers."""
+    units = {"rmse": "rmse [N]", "fz_min": "fz_min [N]", "fz_max": "fz_max [N]", "time_s": "time [s]",
+             "peak_mu": "peak_mu [-]", "r2": "r2 [-]"}
+    lines = [",".join(units.get(c, c) for c in SUMMARY_COLUMNS)]
+    for r in records:
+        lines.append(",".join(_csv_cell(r.get(c)) for c in SUMMARY_COLUMNS))
+    return "\n".join(lines) + "\n"
+
+
+def write_summary(res: BatchResult) -> tuple[Path, Path]:
+    """Write ``summary.csv`` and ``index.html`` into the batch folder (replacing them)."""
+    from .report import Report
+
+    csv_path = write_text(res.out_dir / "summary.csv", summary_csv_text(res.records), force=True)
+    rep = Report("tyrefit batch fit", f"{len(res.records)} data files; {res.n_ok} fitted, {res.n_skipped} "
+                 f"skipped (up to date), {res.n_failed} failed; {res.elapsed:.1f} s on {res.backend}.")
+    ok = [r for r in res.records if r.get("status") in ("ok", "skipped") and r.get("rmse") is not None]
+    if ok:
+        rep.h2("Fit quality")
+        _quality_figure(rep, ok)
+    if res.failed:
+        rep.h2("Failed")
+        rep.table([{"name": r["name"], "status": r["status"], "error": r.get("error", "")} for r in res.failed])
+    rep.h2("Every tyre")
+    rep.p("rmse in N (lateral force for slip-angle data, longitudinal for slip-ratio data), R² of the same, "
+          "peak μ = D/Fz at the median load of the data. The table is also in summary.csv; per-tyre records "
+          "are in status/.", cls="note")
+    cols = ["name", "status", "points", "rmse", "r2", "peak_mu", "time_s", "error"]
+    rep.table([{c: r.get(c, "") if r.get(c) is not None else "" for c in cols} for r in res.records], columns=cols)
+    html_path = rep.save(res.out_dir, "index.html", force=True)
+    return csv_path, html_path
+
+
+def _quality_figure(rep, ok: list[dict]) -> None:
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.2))
+    for ax, key, label in zip(axes, ("rmse", "r2", "peak_mu"), ("rmse [N]", "R² [-]", "peak μ [-]")):
+        v = np.array([r.get(key) for r in ok if r.get(key) is not None], float)
+        v = v[np.isfinite(v)]
+        if v.size:
+            ax.hist(v, bins=min(30, max(5, v.size // 5)), color="#4a6fa5")
+        ax.set_xlabel(label)
+        ax.set_ylabel("tyres")
+    fig.tight_layout()
+    rep.figure(fig, f"Distribution over the {len(ok)} fitted tyres.")

@@ -1,0 +1,40 @@
+"""``tyrefit batch fit DIR_OR_GLOB --out DIR [--scheduler ADDRESS] [--workers N]``.
+
+Fits every data file with :func:`tyrefit.batch.batch_fit` and prints one
+summary line on stdout.  A bad file does not stop the batch: it is listed on
+stderr (one line each) and in ``DIR/summary.csv`` / ``DIR/index.html``.
+
+Exit codes: 0 every tyre fitted or up to date; 2 bad arguments, no data
+files, or one or more files that could not be fitted (the others are fitted
+and the summary is written); 1 a tyre hit an internal error (a tyrefit bug;
+the traceback is in ``DIR/status/<name>.json``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..batch import batch_fit
+
+#: failures listed on stderr before "... and N more"
+_MAX_LISTED = 20
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``tyrefit batch <command>``; return the exit code."""
+    if args.batch_command != "fit":  # pragma: no cover - argparse allows only 'fit'
+        raise SystemExit(2)
+    res = batch_fit(args.source, args.out, workers=args.workers, scheduler=args.scheduler, force=args.force,
+                    progress=True, cost=getattr(args, "cost", "l2"),
+                    convention=getattr(args, "convention", "iso"))
+    print(f"{len(res.records)} data files: {res.n_ok} fitted, {res.n_skipped} up to date, {res.n_failed} failed "
+          f"in {res.elapsed:.1f} s ({res.backend}); summary {res.summary_csv}, report {res.report}")
+    failed = res.failed
+    for r in failed[:_MAX_LISTED]:
+        print(f"tyrefit batch: {r['name']}: {r['status']}: {r.get('error', '')}", file=sys.stderr)
+    if len(failed) > _MAX_LISTED:
+        print(f"tyrefit batch: ... and {len(failed) - _MAX_LISTED} more (see {res.summary_csv})", file=sys.stderr)
+    if any(r["status"] == "error" for r in failed):
+        return 1
+    return 2 if failed else 0
