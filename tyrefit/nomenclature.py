@@ -125,6 +125,9 @@ _UNIT_SYNONYMS = {
     "m/s": "m/s", "mps": "m/s", "m2": "m2", "m^2": "m2", "cm^2": "cm2", "mm^2": "mm2", "in^2": "in2",
     "percent": "%", "": "-", "none": "-", "ratio": "-", "sec": "s", "n/mm": "N/mm", "n/m": "N/m",
     "kn/m": "kN/m", "kn/mm": "kN/mm",
+    # US customary spellings of FSAE TTC files
+    "ft-lb": "lbf*ft", "lb-ft": "lbf*ft", "ft.lb": "lbf*ft", "ft*lb": "lbf*ft", "lbf-ft": "lbf*ft",
+    "ft-lbf": "lbf*ft", "lb*ft": "lbf*ft", "km/hour": "km/h", "mi/h": "mph",
 }
 
 #: foreign channel names -> canonical names (case-insensitive)
@@ -134,7 +137,7 @@ ALIASES: dict[str, str] = {
     "p": "pressure", "v": "speed", "sl": "slip_ratio", "et": "time", "rl": "loaded_radius", "re": "rolling_radius",
     # TYDEX
     "slipangl": "slip_angle", "inclangl": "camber", "fzw": "fz", "fyw": "fy", "mzw": "mz", "mxw": "mx",
-    "inflpres": "pressure", "longvel": "speed", "longslip": "slip_ratio", "runtime": "time",
+    "inflpres": "pressure", "longvel": "speed", "longslip": "slip_ratio", "runtime": "time", "fxw": "fx",
     # common spellings
     "alpha": "slip_angle", "slip angle": "slip_angle", "slipangle": "slip_angle", "sa_deg": "slip_angle",
     "kappa": "slip_ratio", "slip": "slip_ratio", "sr": "slip_ratio", "gamma": "camber", "inclination": "camber",

@@ -419,7 +419,10 @@ def parse_csv(p: Path, text: str) -> RawTable:
         raise FormatError(f"{p}: no header line (only comments); a CSV needs a header like 'fz [N],fy [N],...'")
     first = kept[0]
     delim = "\t" if "\t" in first else (";" if first.count(";") > first.count(",") else ",")
-    rows = list(csv.reader(io.StringIO("\n".join(kept)), delimiter=delim))
+    try:
+        rows = list(csv.reader(io.StringIO("\n".join(kept)), delimiter=delim))
+    except csv.Error as exc:  # e.g. a cell longer than the csv module's field limit
+        raise FormatError(f"{p}: cannot split the table into cells ({exc}); expected a CSV with unit headers") from None
     header = [h.strip() for h in rows[0]]
     if len(rows) < 2:
         raise DataError(f"{p}: no data rows after the header (line {lines[0]})")
@@ -505,7 +508,7 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     meta["flipped"] = flipped
     # finite everywhere ---------------------------------------------------
     for c in df.columns:
-        if df[c].dtype == object:
+        if not pd.api.types.is_numeric_dtype(df[c]):  # text columns (object or pandas str dtype)
             continue
         v = df[c].to_numpy()
         bad = ~np.isfinite(v)
