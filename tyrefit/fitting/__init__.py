@@ -1,0 +1,14 @@
+"""Fitting PAC89 to tyre test data.
+
+:func:`fit_pac89` runs Komana et al.'s procedure (seed 003, section 4.3):
+Eq. 2-4 initial estimates per sweep (:mod:`tyrefit.fitting.initial`), then a
+global fit on the friction coefficient (:mod:`tyrefit.fitting.engine`), and
+returns a :class:`FitResult` (:mod:`tyrefit.fitting.result`).
+"""
+
+from .engine import fit_pac89, identifiability, noise_floor, prepare_data
+from .initial import estimate_sweep, estimate_sweeps
+from .result import FitResult
+
+__all__ = ["fit_pac89", "FitResult", "estimate_sweep", "estimate_sweeps", "identifiability", "noise_floor",
+           "prepare_data"]

@@ -1,0 +1,771 @@
+"""Global PAC89 fit: all sweeps at once, on the friction coefficient.
+
+:func:`fit_pac89` fits the lateral coefficients ``a0``..``a13`` to slip-angle
+sweeps, ``b0``..``b10`` to slip-ratio sweeps and ``c0``..``c17`` to the
+aligning moment when ``mz`` is measured, following Komana et al. (seed 003,
+section 4.3): Eq. 2-4 initial estimates per sweep
+(:mod:`tyrefit.fitting.initial`), then one least-squares problem over every
+point on the friction coefficient mu = F / Fz.
+
+The problem
+-----------
+Residual of point i in sweep s:  r_i = (F_model(p; Fz_i, x_i, gamma_i) - F_i) / Fz_i,
+with the *measured* Fz_i (static-rig loads fall during a push).  Costs:
+
+* ``cost='l2'`` (default): sum_s (1/n_s) sum_i r_i^2, ordinary least squares
+  with each sweep weighted by 1/n_s so that densely sampled sweeps do not
+  dominate (mu already removes the load scale);
+* ``cost='l1'``: sum_s (1/n_s) sum_i |r_i|, Komana et al. Eq. 5
+  (Cost = sum sqrt((Y - y)^2)), solved as a smooth pseudo-Huber problem
+  (``soft_l1`` loss) whose scale is shrunk in two continuation steps from
+  the l2 solution, so it converges to the l1 minimum.
+
+Solver: :func:`scipy.optimize.least_squares` (trust-region reflective) with
+the analytic Jacobian of :mod:`tyrefit.models.pac89` for all points at once.
+The coefficients are held as :class:`lmfit.Parameters` (value, bounds,
+``vary``, standard error, correlations) in the result.
+
+Physical constraints, exact over the fitted load range [Fz_lo, Fz_hi]:
+
+* C > 0: bounds on ``a0`` / ``b0``;
+* D > 0: D/Fz = a1 Fz + a2 is linear in Fz, so it is positive over the range
+  iff it is at both ends; when a1 and a2 both vary they are re-parametrised
+  as the peak friction (D/Fz) at Fz_lo and Fz_hi, each bounded below by
+  mu = 0.02 (an affine change of variables); when only one varies its bounds
+  follow from the other's fixed value.  Same for BCD/Fz = b3 Fz + b4 > 0;
+* E <= 1: E = a6 Fz + a7 is linear, handled the same way (E at both ends
+  <= 1).  The longitudinal E = b6 Fz^2 + b7 Fz + b8 is checked after the fit
+  and refitted with b6 = 0 (linear, exact) if it breaks E <= 1.
+
+Staged, multi-start fitting so that a poor start cannot strand the fit:
+stage 1 fits C, the D law and the BCD law with E held; stage 2 frees all
+fitted coefficients.  Three starts (the Eq. 2-4 estimates, typical C = 1.3
+with E = 0, and C raised by 20 % with E lowered by 1) are run unless the first
+already reaches the noise floor; the lowest cost wins.
+
+Identifiability: a coefficient the data cannot determine is held at its
+neutral value (0, or the Eq. 2-4 estimate for a4) and listed in
+``FitResult.not_identifiable`` with the reason; it is never fitted to noise.
+The rules (:func:`identifiability`) need, for
+
+* load laws: a1, a4 >= 2 load levels; a6 >= 3 (E is the weakest-determined
+  factor); b1 >= 2; b3, b7 >= 3; b5, b6 >= 4; c1 >= 2; c3, c8 >= 3; c5, c7 >= 4;
+* camber: a5, c6, c10 >= 2 levels of |gamma|; a11, c15 >= 2 camber levels;
+  a8, c11 also both slip signs (a horizontal camber shift is told from a
+  vertical one only by the saturated ends); c14 also >= 3 load levels;
+* shifts: a10, a13, b10, c13, c17 need both slip signs reaching at least half
+  the largest |slip|; a9, a12, b9, c12, c16 also >= 2 load levels;
+* curvature: with no sweep reaching its peak E is held at 0 (a6, a7 / b6-b8).
+
+References
+----------
+Komana, Els, Becker (seed 003), section 4.3 and Eq. 2-5.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import least_squares
+
+from ..errors import DataError, FitError
+from ..models import pac89
+from . import initial as ini
+
+__all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
+
+_DEG = 180.0 / math.pi
+MU_MIN, MU_MAX = 0.02, 6.0
+
+
+@dataclass(frozen=True)
+class PartSpec:
+    """What one part of PAC89 (lateral, longitudinal, aligning) fits to."""
+
+    name: str
+    names: tuple[str, ...]
+    force: str
+    slip: str
+    x_scale: float  # SI slip -> PAC89 units
+    core: tuple[str, ...]  # stage-1 coefficients (C, D law, BCD law)
+    curvature: tuple[str, ...]
+
+    def jacobian(self, p, d: "PartData", names):
+        if self.name == "lateral":
+            return pac89.lateral_jacobian(p, d.fz, d.slip, d.camber, names)
+        if self.name == "longitudinal":
+            return pac89.longitudinal_jacobian(p, d.fz, d.slip, names)
+        return pac89.aligning_jacobian(p, d.fz, d.slip, d.camber, names)
+
+    def model(self, p, fz, slip, camber=0.0):
+        if self.name == "lateral":
+            return pac89.lateral_force(p, fz, slip, camber)
+        if self.name == "longitudinal":
+            return pac89.longitudinal_force(p, fz, slip)
+        return pac89.aligning_moment(p, fz, slip, camber)
+
+
+PARTS: dict[str, PartSpec] = {
+    "lateral": PartSpec("lateral", pac89.LATERAL, "fy", "slip_angle", _DEG,
+                        ("a0", "a1", "a2", "a3", "a4"), ("a6", "a7")),
+    "longitudinal": PartSpec("longitudinal", pac89.LONGITUDINAL, "fx", "slip_ratio", 100.0,
+                             ("b0", "b1", "b2", "b3", "b4", "b5"), ("b6", "b7", "b8")),
+    "aligning": PartSpec("aligning", pac89.ALIGNING, "mz", "slip_angle", _DEG,
+                         ("c0", "c1", "c2", "c3", "c4", "c5"), ("c7", "c8", "c9")),
+}
+
+#: neutral values of the coefficients that are not fitted (everything else 0)
+#: linear laws value(Fz) = s Fz + i constrained at both ends of the load range:
+#: (slope, intercept, lower bound, upper bound) in PAC89 units (Fz in kN)
+_LINEAR_LAWS = {
+    "lateral": [("a1", "a2", MU_MIN * 1e3, MU_MAX * 1e3), ("a6", "a7", -30.0, 1.0)],
+    "longitudinal": [("b1", "b2", MU_MIN * 1e3, MU_MAX * 1e3), ("b3", "b4", 1e-6, np.inf), ("b7", "b8", -30.0, 1.0)],
+    "aligning": [],
+}
+
+
+@dataclass
+class PartData:
+    """Arrays of one part's points (SI, ISO-W) and their sweep structure."""
+
+    part: PartSpec
+    df: pd.DataFrame
+    fz: np.ndarray
+    slip: np.ndarray
+    camber: np.ndarray
+    y: np.ndarray  # measured force or moment
+    run: np.ndarray
+    n_per_run: np.ndarray  # n of the sweep of each point
+    info: dict = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return len(self.y)
+
+    @property
+    def fz_range(self) -> tuple[float, float]:
+        return float(self.fz.min()), float(self.fz.max())
+
+
+# ----------------------------------------------------------------------------------- data
+def _frame(data) -> tuple[pd.DataFrame, dict]:
+    """DataFrame and description of ``data`` (Dataset, DataFrame or path)."""
+    info = {"source": "", "kind": ""}
+    if isinstance(data, pd.DataFrame):
+        df = data
+    elif hasattr(data, "df"):
+        df = data.df
+        info["source"] = str(getattr(data, "source", "") or "")
+        info["kind"] = str(getattr(data, "kind", "") or "")
+    else:
+        from ..io.readers import read_data
+
+        ds = read_data(data)
+        df, info["source"], info["kind"] = ds.df, ds.source, ds.kind
+    if "fz" not in df:
+        raise DataError(f"{info['source'] or 'data'}: no 'fz' column; fitting needs the normal load of every point")
+    df = df.copy()
+    if "run" not in df:
+        df["run"] = _derive_runs(df)
+    if "camber" not in df:
+        df["camber"] = 0.0
+    df["camber"] = df["camber"].fillna(0.0)
+    return df, info
+
+
+def _derive_runs(df: pd.DataFrame) -> np.ndarray:
+    try:
+        from ..io.readers import derive_runs
+
+        kind = "slip_angle" if "slip_angle" in df else "slip_ratio"
+        return np.asarray(derive_runs(df, kind)[0], int)
+    except ImportError:  # pragma: no cover - readers always present in the package
+        keys = [np.round(df["fz"] / max(1.0, 0.02 * df["fz"].abs().max()))]
+        if "camber" in df:
+            keys.append(np.round(np.degrees(df["camber"]) * 4))
+        return pd.MultiIndex.from_arrays(keys).factorize()[0]
+
+
+def _varies(g: pd.Series, tol: float) -> bool:
+    v = g.to_numpy(float)
+    v = v[np.isfinite(v)]
+    return v.size > 0 and float(np.ptp(v)) >= tol
+
+
+def prepare_data(data) -> tuple[dict[str, PartData], dict]:
+    """Split ``data`` into lateral, longitudinal and aligning point sets.
+
+    A sweep (``run``) is lateral when its slip angle varies by >= 0.5 deg and
+    its slip ratio (if any) does not vary by 0.01 or more; longitudinal when
+    its slip ratio varies by >= 0.01 at a slip angle within 0.5 deg of zero.
+    Combined-slip sweeps (both vary) are left out: PAC89 has no combined slip.
+    Points with NaN in the needed columns or Fz <= 0 are dropped.
+    """
+    df, info = _frame(data)
+    parts: dict[str, PartData] = {}
+    dropped = []
+    lat_runs, lon_runs = [], []
+    for run, g in df.groupby("run", sort=True):
+        sa_var = "slip_angle" in g and _varies(g["slip_angle"], math.radians(0.5))
+        sr_var = "slip_ratio" in g and _varies(g["slip_ratio"], 0.01)
+        if sa_var and sr_var:
+            dropped.append(int(run))
+        elif sa_var and "fy" in g:
+            lat_runs.append(run)
+        elif sr_var and "fx" in g:
+            sa = g["slip_angle"].to_numpy(float) if "slip_angle" in g else np.zeros(len(g))
+            if np.all(~np.isfinite(sa)) or abs(np.nanmedian(sa)) < math.radians(0.5):
+                lon_runs.append(run)
+            else:
+                dropped.append(int(run))
+    if dropped:
+        info.setdefault("notes", []).append(
+            f"{len(dropped)} combined-slip sweep(s) left out (runs {dropped[:8]}{'...' if len(dropped) > 8 else ''}): "
+            "PAC89 has pure-slip curves only")
+    for name, runs, cols in (("lateral", lat_runs, ("fy", "slip_angle")),
+                             ("longitudinal", lon_runs, ("fx", "slip_ratio")),
+                             ("aligning", lat_runs, ("mz", "slip_angle"))):
+        if not runs or any(c not in df for c in cols):
+            continue
+        sub = df[df["run"].isin(runs)]
+        ok = np.isfinite(sub["fz"].to_numpy(float)) & (sub["fz"].to_numpy(float) > 0)
+        for c in cols:
+            ok &= np.isfinite(sub[c].to_numpy(float))
+        sub = sub[ok]
+        counts = sub.groupby("run")["run"].transform("size").to_numpy()
+        sub = sub[counts >= 4]
+        if len(sub) < 10:
+            continue
+        spec = PARTS[name]
+        counts = sub.groupby("run")["run"].transform("size").to_numpy()
+        parts[name] = PartData(spec, sub, sub["fz"].to_numpy(float), sub[spec.slip].to_numpy(float),
+                               sub["camber"].to_numpy(float), sub[spec.force].to_numpy(float),
+                               sub["run"].to_numpy(), counts.astype(float))
+    if not parts:
+        what = info["source"] or "data"
+        raise DataError(f"{what}: nothing to fit: need sweeps of slip_angle with fy (and fz), or of slip_ratio "
+                        "with fx, each with at least 4 points and a slip span of 0.5 deg / 0.01")
+    return parts, info
+
+
+# ------------------------------------------------------------------------- identifiability
+def _levels(values: np.ndarray, tol: float) -> int:
+    v = np.sort(np.asarray(values, float))
+    if v.size == 0:
+        return 0
+    return int(1 + np.sum(np.diff(v) > tol))
+
+
+def identifiability(d: PartData) -> tuple[dict[str, str], dict]:
+    """Coefficients of ``d.part`` that the data cannot determine, with the reason.
+
+    Returns ``(not_identifiable, facts)``; see the module docstring for the rules.
+    """
+    runs = d.df.groupby("run").agg(fz=("fz", "mean"), camber=("camber", "mean"))
+    n_l = int(ini.load_levels(runs["fz"].to_numpy()).max() + 1) if len(runs) else 0
+    cam_tol = math.radians(0.25)
+    n_c = _levels(runs["camber"].to_numpy(), cam_tol)
+    n_ac = _levels(np.abs(runs["camber"].to_numpy()), cam_tol)
+    x = d.slip * d.part.x_scale
+    xmax = float(np.max(np.abs(x)))
+    pos, neg = int(np.sum(x > 0.5 * xmax)), int(np.sum(x < -0.5 * xmax))
+    both = pos >= 3 and neg >= 3
+    peak = getattr(d, "_any_peak", True)
+    facts = {"load_levels": n_l, "camber_levels": n_c, "abs_camber_levels": n_ac, "both_signs": both,
+             "points_pos": pos, "points_neg": neg, "slip_max": xmax, "any_peak": bool(peak)}
+    why: dict[str, str] = {}
+
+    def need_loads(names, k):
+        for nm in names:
+            if n_l < k:
+                why[nm] = f"needs >= {k} load levels (data: {n_l})"
+
+    def need_both(names, extra=""):
+        for nm in names:
+            if not both:
+                why.setdefault(nm, "needs both slip signs reaching half the largest |slip| "
+                                   f"(data: {pos} points above, {neg} below){extra}")
+
+    def need_camber(names, k=2, absolute=False):
+        have = n_ac if absolute else n_c
+        for nm in names:
+            if have < k or (absolute and np.max(np.abs(runs["camber"])) < cam_tol):
+                why.setdefault(nm, f"needs >= {k} {'|camber|' if absolute else 'camber'} levels (data: {have})")
+
+    p = d.part.name
+    if p == "lateral":
+        need_loads(["a1", "a4"], 2)
+        need_loads(["a6"], 3)
+        need_camber(["a5"], absolute=True)
+        need_camber(["a8", "a11"])
+        need_both(["a8"])
+        need_both(["a10", "a13"])
+        need_both(["a9", "a12"])
+        need_loads(["a9", "a12"], 2)
+        if not peak:
+            for nm in ("a6", "a7"):
+                why.setdefault(nm, "no sweep reaches its peak: curvature E held at 0")
+    elif p == "longitudinal":
+        need_loads(["b1"], 2)
+        need_loads(["b3", "b7"], 3)
+        need_loads(["b5", "b6"], 4)
+        need_both(["b9", "b10"])
+        need_loads(["b9"], 2)
+        if not peak:
+            for nm in ("b6", "b7", "b8"):
+                why.setdefault(nm, "no sweep reaches its peak: curvature E held at 0")
+    else:
+        need_loads(["c1"], 2)
+        need_loads(["c3", "c8"], 3)
+        need_loads(["c5", "c7"], 4)
+        need_camber(["c6", "c10"], absolute=True)
+        need_camber(["c11", "c14", "c15"])
+        need_loads(["c14"], 3)
+        need_both(["c11", "c12", "c13", "c16", "c17"])
+        need_loads(["c12", "c16"], 2)
+    return why, facts
+
+
+# ------------------------------------------------------------------------------ noise floor
+def noise_floor(d: PartData) -> tuple[float, pd.Series]:
+    """Measurement-noise estimate [N or N*m] from neighbouring points along each sweep.
+
+    Within a sweep sorted by slip, each interior point is compared with the
+    straight line through its two neighbours, e_i = y_i - (w1 y_{i-1} + w2 y_{i+1})
+    (linear-interpolation weights), which removes any locally linear trend;
+    for independent noise of standard deviation sigma, var(e_i) =
+    sigma^2 (1 + w1^2 + w2^2), so e_i / sqrt(1 + w1^2 + w2^2) estimates sigma.
+    A robust scale (1.4826 x median absolute deviation) per sweep is used, so
+    the curvature at the peak and outliers do not inflate it.  With repeated
+    (up/down) sweeps the neighbours alternate between branches, so hysteresis
+    counts as noise: the floor is what no single-valued steady-state curve can
+    go below.  Returns the pooled value (root mean square over sweeps, weighted
+    by points) and the per-sweep values.
+    """
+    out = {}
+    for run, g in d.df.groupby("run", sort=True):
+        x = g[d.part.slip].to_numpy(float)
+        y = g[d.part.force].to_numpy(float)
+        o = np.argsort(x, kind="stable")
+        x, y = x[o], y[o]
+        if len(x) < 5:
+            continue
+        x0, x1, x2 = x[:-2], x[1:-1], x[2:]
+        span = x2 - x0
+        ok = span > 0
+        w1 = np.where(ok, (x2 - x1) / np.where(ok, span, 1.0), 0.5)
+        w2 = 1.0 - w1
+        e = (y[1:-1] - (w1 * y[:-2] + w2 * y[2:])) / np.sqrt(1.0 + w1**2 + w2**2)
+        out[run] = 1.4826 * float(np.median(np.abs(e - np.median(e))))
+    s = pd.Series(out, dtype=float)
+    if s.empty:
+        return float("nan"), s
+    n = d.df.groupby("run").size().reindex(s.index).to_numpy(float)
+    return float(np.sqrt(np.sum(n * s.to_numpy() ** 2) / np.sum(n))), s
+
+
+# ------------------------------------------------------------------------------ the problem
+def _interior(x, lb, ub, rel: float = 1e-9):
+    """Project ``x`` strictly inside [lb, ub] (least_squares needs a feasible start)."""
+    x = np.asarray(x, float).copy()
+    for j in range(x.size):
+        a, b = lb[j], ub[j]
+        eps_a = rel * max(1.0, abs(a)) if np.isfinite(a) else 0.0
+        eps_b = rel * max(1.0, abs(b)) if np.isfinite(b) else 0.0
+        if np.isfinite(a) and np.isfinite(b) and b - a <= eps_a + eps_b:
+            x[j] = 0.5 * (a + b)
+        else:
+            x[j] = min(max(x[j], a + eps_a), b - eps_b)
+    return x
+
+
+class _Problem:
+    """Affine parametrisation theta -> coefficients with box bounds on theta."""
+
+    def __init__(self, d: PartData, base: dict[str, float], vary: Sequence[str], cost: str):
+        self.d = d
+        self.spec = d.part
+        self.names = self.spec.names
+        self.base = {k: float(base.get(k, 0.0)) for k in self.names}
+        self.vary = [k for k in self.names if k in set(vary)]
+        self.cost = cost
+        lo, hi = d.fz_range
+        self.lo, self.hi = lo * 1e-3, hi * 1e-3
+        self.w = 1.0 / np.sqrt(d.n_per_run) if cost == "l2" else 1.0 / d.n_per_run
+        self.inv_fz = 1.0 / d.fz
+        self._build()
+
+    # -- parametrisation ---------------------------------------------------------
+    def _direct_bounds(self, k: str) -> tuple[float, float]:
+        b = self.base
+        gmax = float(np.max(np.abs(self.d.camber))) * _DEG if self.d.camber.size else 0.0
+        hi = max(self.hi, 1e-3)
+        table = {
+            "a0": (0.3, 3.0), "b0": (0.3, 3.0), "c0": (0.3, 5.0),
+            "a3": (1e-9, np.inf), "a4": (1e-3, 1e5),
+            "a5": (-1.0, 0.99 / gmax if gmax > 0 else 1.0),
+            "b5": (-2.0 / hi, 10.0 / hi), "c5": (-2.0 / hi, 10.0 / hi),
+            "c6": (-1.0, 0.99 / gmax if gmax > 0 else 1.0), "c10": (-1.0, 0.99 / gmax if gmax > 0 else 1.0),
+        }
+        lo_b, hi_b = table.get(k, (-np.inf, np.inf))
+        # linear laws with one member fixed: bounds from the fixed one, at both load ends
+        for s, i, L, U in self._laws():
+            if k not in (s, i):
+                continue
+            other = i if k == s else s
+            if other in self.vary:
+                continue
+            ends = np.array([self.lo, self.hi])
+            if k == i:  # value = s0 Fz + i
+                lo_b = max(lo_b, float(np.max(L - b[s] * ends)))
+                hi_b = min(hi_b, float(np.min(U - b[s] * ends)))
+            else:  # value = s Fz + i0
+                lo_b = max(lo_b, float(np.max((L - b[i]) / ends)))
+                hi_b = min(hi_b, float(np.min((U - b[i]) / ends)))
+        return lo_b, hi_b
+
+    def _laws(self):
+        laws = []
+        for s, i, L, U in _LINEAR_LAWS[self.spec.name]:
+            if (s, i) == ("b7", "b8") and ("b6" in self.vary or self.base.get("b6", 0.0) != 0.0):
+                continue  # quadratic E: checked after the fit
+            laws.append((s, i, L, U))
+        return laws
+
+    def _build(self) -> None:
+        nv = len(self.vary)
+        idx = {k: j for j, k in enumerate(self.names)}
+        pairs = [(s, i, L, U) for s, i, L, U in self._laws()
+                 if s in self.vary and i in self.vary and self.hi - self.lo > 1e-9]
+        paired = {k for s, i, _, _ in pairs for k in (s, i)}
+        theta_names, lb, ub, cols = [], [], [], []
+        self.offset = np.array([self.base[k] for k in self.names])
+        for k in self.vary:
+            if k in paired:
+                continue
+            col = np.zeros(len(self.names))
+            col[idx[k]] = 1.0
+            self.offset[idx[k]] = 0.0
+            a, b = self._direct_bounds(k)
+            theta_names.append(k), lb.append(a), ub.append(b), cols.append(col)
+        for s, i, L, U in pairs:
+            dz = self.hi - self.lo
+            for end, (cs, ci) in (("lo", (-1.0 / dz, self.hi / dz)), ("hi", (1.0 / dz, -self.lo / dz))):
+                col = np.zeros(len(self.names))
+                col[idx[s]], col[idx[i]] = cs, ci
+                theta_names.append(f"{s}{i}@{end}"), lb.append(L), ub.append(U), cols.append(col)
+            self.offset[idx[s]] = self.offset[idx[i]] = 0.0
+        self.theta_names = theta_names
+        self.T = np.array(cols).T if cols else np.zeros((len(self.names), 0))
+        self.lb, self.ub = np.array(lb, float), np.array(ub, float)
+        self.used = [k for j, k in enumerate(self.names) if np.any(self.T[j] != 0)]
+        self.used_idx = [idx[k] for k in self.used]
+        self.pairs = pairs
+        assert len(theta_names) == nv
+
+    def theta_of(self, coeffs: Mapping[str, float]) -> np.ndarray:
+        c = np.array([float(coeffs.get(k, self.base[k])) for k in self.names])
+        th, *_ = np.linalg.lstsq(self.T, c - self.offset, rcond=None)
+        return _interior(th, self.lb, self.ub)
+
+    def coeffs_of(self, theta: np.ndarray) -> dict[str, float]:
+        c = self.offset + self.T @ theta
+        return dict(zip(self.names, c.tolist()))
+
+    # -- residuals --------------------------------------------------------------
+    def residual(self, theta):
+        p = self.coeffs_of(theta)
+        y = self.spec.model(p, self.d.fz, self.d.slip, self.d.camber)
+        return self.w * (y - self.d.y) * self.inv_fz
+
+    def jac(self, theta):
+        p = self.coeffs_of(theta)
+        _, J = self.spec.jacobian(p, self.d, self.used)
+        J = J * (self.w * self.inv_fz)[:, None]
+        return J @ self.T[self.used_idx, :]
+
+    def solve(self, theta0, *, loss="linear", f_scale=1.0, max_nfev=None):
+        if len(theta0) == 0:
+            return theta0, 0
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            r = least_squares(self.residual, theta0, jac=self.jac, bounds=(self.lb, self.ub), method="trf",
+                              x_scale="jac", loss=loss, f_scale=f_scale, max_nfev=max_nfev or 200 * (len(theta0) + 1),
+                              ftol=1e-10, xtol=1e-10, gtol=1e-10)
+        return r.x, int(r.nfev)
+
+    def objective(self, theta) -> float:
+        r = self.residual(theta)
+        return float(np.sum(r * r)) if self.cost == "l2" else float(np.sum(np.abs(r)))
+
+
+# ------------------------------------------------------------------------------ one part
+@dataclass
+class PartFit:
+    """Result of fitting one part (internal; gathered into FitResult)."""
+
+    name: str
+    coefficients: dict[str, float]
+    varied: list[str]
+    not_identifiable: dict[str, str]
+    stderr: dict[str, float]
+    correl: pd.DataFrame
+    initial: dict[str, float]
+    estimates: pd.DataFrame
+    facts: dict
+    objective: float
+    nfev: int
+    seconds: float
+    starts: list[dict]
+    notes: list[str]
+    data: PartData
+    noise_floor: float
+    noise_per_run: pd.Series
+    bounds: dict[str, tuple[float, float]]
+    constraints: list[str]
+
+
+def _starts(spec: PartSpec, c0: dict[str, float]) -> list[dict[str, float]]:
+    """Start points for the multi-start: the estimates, a typical shape, a sharper shape."""
+    if spec.name == "aligning":
+        alt = dict(c0, c0=2.0, c9=0.0)
+        return [c0, alt]
+    C, E_law = spec.core[0], spec.curvature
+    typ = dict(c0, **{C: ini.TYPICAL_C[spec.name]}, **{k: 0.0 for k in E_law})
+    sharp = dict(c0, **{C: min(c0[C] * 1.2, 2.2)})
+    e_int = E_law[-1]
+    sharp[e_int] = c0[e_int] - 1.0
+    return [c0, typ, sharp]
+
+
+def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapping[str, float],
+              initial: Mapping[str, float], notes: list[str]) -> PartFit:
+    t0 = time.perf_counter()
+    spec = d.part
+    # Eq. 2-4 estimates
+    if spec.name == "aligning":
+        est = pd.DataFrame()
+        c_init = ini.aligning_initial(d.df, spec.x_scale)
+        d._any_peak = True
+    else:
+        est = ini.estimate_sweeps(d.df, spec.slip, spec.force, x_scale=spec.x_scale, part=spec.name)
+        d._any_peak = bool(est["has_peak"].any()) if len(est) else False
+        fn = ini.lateral_initial if spec.name == "lateral" else ini.longitudinal_initial
+        c_init = fn(est)
+    why, facts = identifiability(d)
+    c0 = dict(c_init)
+    c0.update({k: float(v) for k, v in initial.items() if k in spec.names})
+    # what varies
+    if vary is None:
+        want = [k for k in spec.names if k not in why]
+    else:
+        want = [k for k in spec.names if k in set(vary)]
+    held_by_rule = [k for k in want if k in why and (vary is not None)]
+    if held_by_rule:
+        notes.append(f"{spec.name}: {', '.join(held_by_rule)} asked to vary but not identifiable from these data; held")
+    want = [k for k in want if k not in why and k not in fixed]
+    # values of the coefficients that do not vary: fixed, else neutral 0 for those not identifiable
+    for k in spec.names:
+        if k in fixed:
+            c0[k] = float(fixed[k])
+        elif k in why and k not in initial:
+            c0[k] = 0.0 if k not in ("a4",) else c0[k]
+    if spec.name == "lateral" and "a4" in why and "a4" not in fixed and "a4" not in initial:
+        # one load: BCD law's curvature held so the cornering coefficient 2 a3/a4 falls gently with load
+        c0["a4"] = c_init["a4"]
+        c0["a3"] = c_init["a3"]
+    if not d._any_peak and spec.name != "aligning":
+        notes.append(f"{spec.name}: no sweep reaches its peak inside the tested slip range; D and C are "
+                     "extrapolated (Eq. 2-4 fallback, see tyrefit.fitting.initial)")
+
+    best = None
+    starts_log = []
+    nfev_total = 0
+    nf_floor, nf_runs = noise_floor(d)
+    core = [k for k in spec.core if k in want]
+    for si, start in enumerate(_starts(spec, c0)):
+        start = {k: (c0[k] if k in fixed or k not in want else v) for k, v in start.items()}
+        # stage 1: C, D law, BCD law; E and the rest held
+        p1 = _Problem(d, start, core, "l2")
+        th1, n1 = p1.solve(p1.theta_of(start))
+        c1 = dict(start, **p1.coeffs_of(th1)) if core else dict(start)
+        # stage 2: everything that varies
+        p2 = _Problem(d, c1, want, "l2")
+        th2, n2 = p2.solve(p2.theta_of(c1))
+        obj = p2.objective(th2)
+        nfev_total += n1 + n2
+        starts_log.append({"start": si, "objective_l2": obj, "nfev": n1 + n2})
+        if best is None or obj < best[0]:
+            best = (obj, p2, th2)
+        # early exit: weighted RMS in N at the noise floor already
+        rms_n = math.sqrt(obj / max(1, len(set(d.run)))) * float(np.mean(d.fz))
+        if si == 0 and np.isfinite(nf_floor) and rms_n <= 1.05 * nf_floor:
+            break
+    _, prob, theta = best
+    if cost == "l1" and len(theta):
+        # Komana et al., Eq. 5: sum of absolute errors, by pseudo-Huber continuation from the l2 solution
+        pl1 = _Problem(d, prob.coeffs_of(theta), want, "l1")
+        th = pl1.theta_of(prob.coeffs_of(theta))
+        scale0 = float(np.median(np.abs(pl1.residual(th)))) or 1e-6
+        for fs in (0.3 * scale0, 0.03 * scale0, 0.003 * scale0):
+            th, n = pl1.solve(th, loss="soft_l1", f_scale=fs)
+            nfev_total += n
+        prob, theta = pl1, th
+    coeffs = prob.coeffs_of(theta) if len(theta) else dict(prob.base)
+    # longitudinal: quadratic E must stay <= 1 over the load range, else refit with b6 = 0
+    if spec.name == "longitudinal" and "b6" in want:
+        fzk = np.linspace(prob.lo, prob.hi, 50)
+        E = coeffs["b6"] * fzk**2 + coeffs["b7"] * fzk + coeffs["b8"]
+        if np.any(E > 1.0):
+            notes.append("longitudinal: E > 1 inside the load range with b6 free; refitted with b6 = 0 "
+                         "(linear E law, constrained exactly)")
+            want2 = [k for k in want if k != "b6"]
+            c_re = dict(coeffs, b6=0.0)
+            p3 = _Problem(d, c_re, want2, "l2")
+            th3, n3 = p3.solve(p3.theta_of(c_re))
+            nfev_total += n3
+            prob, theta, want = p3, th3, want2
+            coeffs = prob.coeffs_of(theta)
+    stderr, correl = _uncertainty(prob, theta)
+    bounds = {k: prob._direct_bounds(k) for k in want if k not in {x for s, i, _, _ in prob.pairs for x in (s, i)}}
+    constraints = []
+    for s, i, L, U in prob.pairs:
+        law = "D/Fz" if (s, i) in (("a1", "a2"), ("b1", "b2")) else ("BCD/Fz" if s == "b3" else "E")
+        constraints.append(f"{law} = {s} Fz + {i} bounded to [{L:g}, {U:g}] at Fz = {prob.lo:.3g} and "
+                           f"{prob.hi:.3g} kN (fitted as its end values)")
+    return PartFit(name=spec.name, coefficients=coeffs, varied=list(want), not_identifiable=why, stderr=stderr,
+                   correl=correl, initial=c_init, estimates=est, facts=facts, objective=prob.objective(theta),
+                   nfev=nfev_total, seconds=time.perf_counter() - t0, starts=starts_log, notes=notes, data=d,
+                   noise_floor=nf_floor, noise_per_run=nf_runs, bounds=bounds, constraints=constraints)
+
+
+def _uncertainty(prob: _Problem, theta) -> tuple[dict[str, float], pd.DataFrame]:
+    """Standard errors and correlations of the varied coefficients (Gauss-Newton, at the solution).
+
+    cov(theta) = s^2 (J^T J)^-1 with s^2 = sum r^2 / (N - p) of the weighted mu
+    residuals; mapped to the coefficients through the affine parametrisation.
+    For the l1 cost this is the least-squares approximation at the l1 solution.
+    """
+    names = prob.vary
+    if not len(theta):
+        return {}, pd.DataFrame()
+    J = prob.jac(theta)
+    r = prob.residual(theta)
+    if prob.cost == "l1":  # residuals were scaled by 1/n per sweep; use the l2 weighting for s^2
+        r = r * np.sqrt(prob.d.n_per_run)
+        J = J * np.sqrt(prob.d.n_per_run)[:, None]
+    dof = max(1, len(r) - len(theta))
+    s2 = float(np.sum(r * r)) / dof
+    try:
+        cov_t = np.linalg.pinv(J.T @ J) * s2
+    except np.linalg.LinAlgError:  # pragma: no cover
+        return {k: float("nan") for k in names}, pd.DataFrame()
+    idx = [prob.names.index(k) for k in names]
+    Tm = prob.T[idx, :]
+    cov = Tm @ cov_t @ Tm.T
+    sd = np.sqrt(np.clip(np.diag(cov), 0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(sd, sd)
+    return dict(zip(names, sd.tolist())), pd.DataFrame(corr, index=names, columns=names)
+
+
+# ------------------------------------------------------------------------------ public API
+def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
+              fixed: Mapping[str, float] | None = None, initial=None, tyre_info=None):
+    """Fit PAC89 coefficients to tyre test data.
+
+    Parameters
+    ----------
+    data : Dataset, pandas.DataFrame or path
+        canonical columns (SI, ISO-W): ``fz`` [N], ``fy`` [N] with ``slip_angle``
+        [rad] (and optional ``camber`` [rad], ``mz`` [N*m]) and/or ``fx`` [N]
+        with ``slip_ratio`` [-]; ``run`` identifies sweeps (derived if absent).
+    cost : {'l2', 'l1'}
+        ordinary least squares (default) or the sum of absolute errors of
+        Komana et al. Eq. 5, both on mu = F/Fz with each sweep weighted 1/n.
+    vary : sequence of str, optional
+        coefficients to fit (e.g. ``['a0', 'a2', 'a3', 'a4', 'a7']``); the
+        others are held at ``fixed`` / ``initial`` / neutral values.  Parts
+        with no name in ``vary`` are not fitted.  Default: every coefficient
+        the data can identify.  Names the data cannot identify are held even
+        when listed (and reported).
+    fixed : mapping, optional
+        coefficients held at these values.
+    initial : mapping or lmfit.Parameters, optional
+        start values overriding the Eq. 2-4 estimates.
+    tyre_info : mapping or Pac89Tyre, optional
+        design data for the tyre file: ``unloaded_radius``, ``width`` [m],
+        ``fnomin`` [N], ``lateral_stiffness``, ``vertical_stiffness`` [N/m],
+        ``name``, ``tyreside``, ``rolling_resistance``, ``header`` (extra lines).
+
+    Returns
+    -------
+    FitResult
+
+    Raises
+    ------
+    DataError
+        nothing fittable in the data; ``cost`` not 'l1'/'l2'; unknown names.
+    FitError
+        the fit produced a non-finite result.
+    """
+    from .result import FitResult
+
+    t0 = time.perf_counter()
+    if cost not in ("l1", "l2"):
+        raise DataError(f"cost {cost!r} is not known; accepted: 'l1' (Komana et al. Eq. 5) or 'l2' (least squares)")
+    fixed = {str(k).lower(): float(v) for k, v in (fixed or {}).items()}
+    if initial is not None and hasattr(initial, "valuesdict"):
+        initial = initial.valuesdict()
+    initial = {str(k).lower(): float(v) for k, v in (initial or {}).items()}
+    if vary is not None:
+        vary = [str(k).lower() for k in vary]
+    for label, names in (("vary", vary or []), ("fixed", fixed), ("initial", initial)):
+        bad = [k for k in names if k not in pac89.ALL]
+        if bad:
+            from ..errors import close_matches
+
+            raise DataError(f"{label}: {', '.join(bad)} not a PAC89 coefficient; accepted a0..a13, b0..b10, c0..c17"
+                            + close_matches(bad[0], pac89.ALL))
+    parts, info = prepare_data(data)
+    notes = list(info.get("notes", []))
+    fits = {}
+    for name, d in parts.items():
+        if vary is not None and not any(k in d.part.names for k in vary):
+            continue
+        pf = _fit_part(d, cost=cost, vary=vary, fixed=fixed, initial=initial, notes=notes)
+        if not all(np.isfinite(v) for v in pf.coefficients.values()):
+            raise FitError(f"{name} fit did not converge to finite coefficients; check the data (units, signs)")
+        fits[name] = pf
+    if not fits:
+        raise DataError(f"vary={vary}: none of these coefficients belongs to a part present in the data "
+                        f"(parts: {', '.join(parts)})")
+    _check_orientation(fits)
+    return FitResult.from_parts(fits, info=info, cost=cost, notes=notes, tyre_info=tyre_info, fixed=fixed,
+                                initial=initial, seconds=time.perf_counter() - t0)
+
+
+def _check_orientation(fits: dict[str, PartFit]) -> None:
+    """A lateral fit with a3 > 0 must have the data's initial slope; else the sign convention is wrong."""
+    pf = fits.get("lateral")
+    if pf is None:
+        return
+    d = pf.data
+    x = d.slip * _DEG
+    near = np.abs(x) <= 2.0
+    if near.sum() < 3 or np.ptp(x[near]) <= 0:
+        return
+    slope_data = np.polyfit(x[near], (d.y / d.fz)[near], 1)[0]
+    fz0 = float(np.median(d.fz))
+    slope_model = float(pac89.lateral_force(pf.coefficients, fz0, math.radians(0.5))
+                        - pac89.lateral_force(pf.coefficients, fz0, math.radians(-0.5)))
+    if np.sign(slope_data) != np.sign(slope_model) and abs(slope_data) > 1e-4:
+        raise DataError(f"{d.info.get('source', '') or 'data'}: the lateral force rises with slip angle; in ISO-W "
+                        "(tyrefit's convention) a positive slip angle gives a negative lateral force. If the file "
+                        "uses the SAE convention (FSAE TTC), pass --convention sae")
