@@ -64,6 +64,8 @@ __all__ = [
     "LIMITS",
     "SAE_FLIPPED",
     "sniff_format",
+    "condition_levels",
+    "lateral_slope",
 ]
 
 #: data kinds and what each is
@@ -595,7 +597,9 @@ def derive_runs(df: pd.DataFrame, kind: str) -> tuple[np.ndarray, str]:
 
     A new run starts where a set-point changes (``load``, ``camber``,
     ``pressure``, ``speed``: step larger than :data:`SETPOINT_TOL`, on a
-    5-sample running median), where the measured ``fz`` of a sweep test steps
+    5-sample running median; for patch and vertical tests the load is the
+    swept variable and does not start a run; tables of braking, UTQG and
+    emission results are one run), where the measured ``fz`` of a sweep test steps
     by more than max(150 N, 8 %) on its running median, and where the sweep
     variable jumps back by more than half its span in one sample (a new sweep
     starting again from the same end).
@@ -606,7 +610,12 @@ def derive_runs(df: pd.DataFrame, kind: str) -> tuple[np.ndarray, str]:
     start = np.zeros(n, bool)
     why = []
     w = 5 if n >= 20 else 1
-    for c, tol in SETPOINT_TOL.items():
+    # patch and vertical tests sweep the load itself: only the other set points start a new run
+    setpoints = {c: t for c, t in SETPOINT_TOL.items()
+                 if not (kind in ("patch", "vertical") and c == "load")}
+    if kind in ("braking", "utqg", "emission"):
+        setpoints = {}
+    for c, tol in setpoints.items():
         if c not in df or df[c].dtype == object:
             continue
         x = df[c].to_numpy(float)
@@ -665,6 +674,63 @@ def load_phase(disp: np.ndarray, run: np.ndarray | None = None) -> np.ndarray:
         s = s.groupby(pd.Series(run)).bfill()
     s = s.bfill().fillna(1.0)
     return s.to_numpy(float)
+
+
+# --------------------------------------------------------------------------- summaries
+
+#: grouping tolerance of condition levels: absolute [SI] and relative
+_LEVEL_TOL = {"fz": (100.0, 0.05), "camber": (0.25 * _DEG, 0.0), "pressure": (5e3, 0.0), "speed": (1.0, 0.0)}
+
+
+def _group_levels(values: np.ndarray, atol: float, rtol: float) -> list[float]:
+    v = np.sort(np.asarray(values, float)[np.isfinite(values)])
+    if v.size == 0:
+        return []
+    gap = np.diff(v) > np.maximum(atol, rtol * np.abs(v[1:]))
+    groups = np.split(v, np.flatnonzero(gap) + 1)
+    return [float(np.mean(g)) for g in groups]
+
+
+def condition_levels(ds: Dataset) -> dict[str, list[float]]:
+    """Distinct test conditions over the runs of ``ds``.
+
+    Run means are grouped when closer than 100 N or 5 % (load), 0.25 deg
+    (camber), 5 kPa (pressure), 1 m/s (speed).  Returns ``{"fz": [N],
+    "camber": [deg], "pressure": [Pa], "speed": [m/s]}`` with the keys present
+    in the data; ``fz`` uses the ``load`` set point where the file gives one
+    (the measured load of a static test falls during the push).
+    """
+    cond = ds.conditions()
+    out: dict[str, list[float]] = {}
+    src = "load" if "load" in cond else "fz"
+    if src in cond:
+        out["fz"] = [round(x, 1) for x in _group_levels(cond[src].to_numpy(), *_LEVEL_TOL["fz"])]
+    if "camber" in cond:
+        out["camber"] = [round(x / _DEG, 3) for x in _group_levels(cond["camber"].to_numpy(), *_LEVEL_TOL["camber"])]
+    if "pressure" in cond:
+        out["pressure"] = [round(x, 0) for x in _group_levels(cond["pressure"].to_numpy(), *_LEVEL_TOL["pressure"])]
+    if "speed" in cond:
+        out["speed"] = [round(x, 3) for x in _group_levels(cond["speed"].to_numpy(), *_LEVEL_TOL["speed"])]
+    return out
+
+
+def lateral_slope(ds: Dataset, max_slip: float = 2 * _DEG) -> float | None:
+    """dFy/dalpha [N/rad] near zero slip (least squares on |alpha| <= ``max_slip``, per-run offsets removed).
+
+    Negative in ISO-W for a normal tyre; None when the data have no slip
+    angle and lateral force or too few points near zero slip.
+    """
+    df = ds.df
+    if "slip_angle" not in df or "fy" not in df:
+        return None
+    sel = df["slip_angle"].abs() <= max_slip
+    if sel.sum() < 5:
+        return None
+    d = df.loc[sel, ["run", "slip_angle", "fy"]]
+    a = d["slip_angle"] - d.groupby("run")["slip_angle"].transform("mean")
+    f = d["fy"] - d.groupby("run")["fy"].transform("mean")
+    den = float((a * a).sum())
+    return float((a * f).sum() / den) if den > 0 else None
 
 
 # --------------------------------------------------------------------------- fit checks
