@@ -77,6 +77,7 @@ from scipy.optimize import least_squares
 from ..errors import DataError, FitError
 from ..models import pac89
 from . import initial as ini
+from ._blas import single_threaded_blas
 
 __all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
 
@@ -739,7 +740,8 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
     for name, d in parts.items():
         if vary is not None and not any(k in d.part.names for k in vary):
             continue
-        pf = _fit_part(d, cost=cost, vary=vary, fixed=fixed, initial=initial, notes=notes)
+        with single_threaded_blas():
+            pf = _fit_part(d, cost=cost, vary=vary, fixed=fixed, initial=initial, notes=notes)
         if not all(np.isfinite(v) for v in pf.coefficients.values()):
             raise FitError(f"{name} fit did not converge to finite coefficients; check the data (units, signs)")
         fits[name] = pf
