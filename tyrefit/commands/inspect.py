@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
 from ..errors import FormatError
 from ..io.outputs import check_output, write_text
@@ -58,7 +59,7 @@ def inspect_data(ds: Dataset) -> dict[str, Any]:
     }
     ranges = {}
     for c in df.columns:
-        if c != "run" and df[c].dtype != object and len(df):
+        if c != "run" and pd.api.types.is_numeric_dtype(df[c]) and len(df):
             ranges[c] = [float(np.nanmin(df[c])), float(np.nanmax(df[c]))]
     out["ranges"] = ranges
     slope = lateral_slope(ds)

@@ -485,7 +485,8 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
         miss = _missing(kind, cols)
         if miss:
             found = ", ".join(f"'{t.headers[c]}'" for c in t.values)
-            raise ColumnError(f"{p}: missing required column {' and '.join(repr(m) for m in miss)} for a {kind} "
+            raise ColumnError(f"{p}: missing required column{'s' if len(miss) > 1 else ''} "
+                              f"{', '.join(repr(m) for m in miss)} for a {kind} "
                               f"test ({KINDS[kind]}); found {found}")
     # units -> SI ---------------------------------------------------------
     data: dict[str, np.ndarray] = {}
@@ -521,7 +522,7 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
             raise ValueRangeError(f"{p}: line {df.index[i]}, column '{t.headers[c]}': value {v[i]} is not a finite "
                                   f"number; NaN, inf and empty cells are not accepted ({int(bad.sum())} in this column)")
     # sign hint for SAE files read as ISO ----------------------------------
-    if "fz" in df and convention == "iso" and df["fz"].dtype != object and np.nanmedian(df["fz"]) < 0:
+    if "fz" in df and convention == "iso" and _numeric(df["fz"]) and np.nanmedian(df["fz"]) < 0:
         raise ValueRangeError(f"{p}: column '{t.headers['fz']}' is mostly negative (median "
                               f"{np.nanmedian(df['fz']):.4g} N); tyrefit holds loads positive in compression: if the "
                               "file uses the SAE convention (FZ negative, as FSAE TTC) pass --convention sae")
@@ -559,7 +560,7 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
 
 def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str]) -> None:
     for c, (lo, hi, lo_incl, unit) in LIMITS.items():
-        if c not in df or df[c].dtype == object:
+        if c not in df or not _numeric(df[c]):
             continue
         v = df[c].to_numpy()
         lo_eff = lo
@@ -584,6 +585,10 @@ def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str])
         disp = unit if unit != "kN" else "N"
         raise ValueRangeError(f"{p}: line {df.index[i]}, column '{h}': {what}, {_fmt(v[i], disp)}; accepted "
                               f"{acc} ({int(bad.sum())} value{'s' if bad.sum() > 1 else ''} outside)")
+
+
+def _numeric(col: pd.Series) -> bool:
+    return pd.api.types.is_numeric_dtype(col) and not pd.api.types.is_bool_dtype(col)
 
 
 def _median(x: np.ndarray, w: int) -> np.ndarray:
@@ -616,7 +621,7 @@ def derive_runs(df: pd.DataFrame, kind: str) -> tuple[np.ndarray, str]:
     if kind in ("braking", "utqg", "emission"):
         setpoints = {}
     for c, tol in setpoints.items():
-        if c not in df or df[c].dtype == object:
+        if c not in df or not _numeric(df[c]):
             continue
         x = df[c].to_numpy(float)
         if c == "load":
@@ -723,8 +728,9 @@ def lateral_slope(ds: Dataset, max_slip: float = 2 * _DEG) -> float | None:
     df = ds.df
     if "slip_angle" not in df or "fy" not in df:
         return None
-    sel = df["slip_angle"].abs() <= max_slip
-    if sel.sum() < 5:
+    absa = df["slip_angle"].abs()
+    sel = absa <= max(max_slip, float(absa.quantile(0.3)))
+    if sel.sum() < 3:
         return None
     d = df.loc[sel, ["run", "slip_angle", "fy"]]
     a = d["slip_angle"] - d.groupby("run")["slip_angle"].transform("mean")

@@ -11,7 +11,7 @@ converted to SI.  Channels with units tyrefit does not convert (``rpm``,
 TTC data are in the SAE tyre axis system (``FZ`` negative): read them with
 ``convention='sae'``.  ``SL`` (slip ratio from the effective rolling radius)
 is the slip ratio; ``SR``, if present as well, is kept as the extra column
-``sr``.
+``sr_raw``.
 
 One file holds one continuous record of many sweeps; the reader marks the
 table for :func:`tyrefit.io.segment.segment_record`, which cuts it into
@@ -51,7 +51,7 @@ def parse_ttc(p: Path, text: str):
                           f"found {lines[1][:60]!r}")
     upper = [n.upper() for n in names_raw]
     if "SR" in upper and "SL" in upper:
-        names_raw[upper.index("SR")] = "sr"  # keep SL as the slip ratio (DESIGN)
+        names_raw[upper.index("SR")] = "SR_raw"  # keep SL as the slip ratio (DESIGN)
     units = [("-" if u.lower() in ("none", "-", "") else u) for u in units_raw]
     names, units_ok, raw = map_headers(p, names_raw, strict_units=False, units=units, where="channel")
     if len(lines) < 4 or not any(s.strip() for s in lines[3:]):
