@@ -1,0 +1,271 @@
+"""Lateral-force sweeps prepared for diagnosis: sweeps, condition levels, cells.
+
+A *sweep* is one slip-angle sweep at one steady condition; residuals along it
+are correlated, so it is the unit of resampling, clustering and hold-out.  The
+``run`` column is taken as the sweep id; a run that holds several conditions
+(FSAE TTC files: one run, many loads, cambers and pressures) is split where a
+condition level changes.  Condition levels (load, camber, pressure, speed) are
+the dense clusters of the measured values.  Long sweeps (thousands of points
+per sweep on real rigs) are thinned to at most ``max_points_per_sweep`` points
+spread evenly along the record, which keeps the per-point noise scale (RMSE
+stays comparable) while making the many refits of a diagnosis fast.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..effects.base import DataSummary, ModelInputs
+from ..errors import ColumnError, DataError
+
+__all__ = ["SweepData", "prepare", "condition_levels", "FACTORS"]
+
+#: condition factors: column, resolution used to find levels (SI), display factor, unit
+FACTORS: dict[str, tuple[float, float, str]] = {
+    "fz": (100.0, 1e-3, "kN"),
+    "camber": (0.25 * np.pi / 180.0, 180.0 / np.pi, "deg"),
+    "pressure": (5e3, 1e-3, "kPa"),
+    "speed": (1.0, 3.6, "km/h"),
+}
+
+
+def condition_levels(values: np.ndarray, resolution: float, min_share: float = 0.01):
+    """Find the set-point levels of a measured condition.
+
+    Parameters
+    ----------
+    values : array_like
+        Measured condition per point (SI).
+    resolution : float
+        Bin width [SI]; levels closer than about twice this merge.
+    min_share : float
+        Bins holding fewer than this share of the points (ramps between set
+        points) do not form levels.
+
+    Returns
+    -------
+    levels : ndarray
+        Level values (median of the points assigned to each), ascending.
+    index : ndarray of int
+        Level index of every point (nearest level).
+    """
+    v = np.asarray(values, dtype=float)
+    finite = np.isfinite(v)
+    if not finite.any():
+        return np.array([np.nan]), np.zeros(len(v), dtype=int)
+    lo, hi = np.nanmin(v), np.nanmax(v)
+    if hi - lo <= 2 * resolution:
+        return np.array([float(np.nanmedian(v))]), np.zeros(len(v), dtype=int)
+    edges = np.arange(lo - resolution, hi + 2 * resolution, resolution)
+    counts, _ = np.histogram(v[finite], edges)
+    dense = counts >= max(min_share * finite.sum(), 1)
+    # contiguous runs of dense bins form the levels; centres are count-weighted
+    centres = []
+    i = 0
+    while i < len(dense):
+        if dense[i]:
+            j = i
+            while j + 1 < len(dense) and dense[j + 1]:
+                j += 1
+            mids = 0.5 * (edges[i:j + 1] + edges[i + 1:j + 2])
+            centres.append(float(np.average(mids, weights=counts[i:j + 1])))
+            i = j + 1
+        else:
+            i += 1
+    if not centres:
+        centres = [float(np.nanmedian(v))]
+    centres = np.array(centres)
+    idx = np.abs(np.where(finite, v, centres[0])[:, None] - centres[None, :]).argmin(axis=1)
+    levels = np.array([np.median(v[(idx == k) & finite]) if ((idx == k) & finite).any() else centres[k]
+                       for k in range(len(centres))])
+    order = np.argsort(levels)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return levels[order], rank[idx]
+
+
+@dataclass
+class SweepData:
+    """Lateral-force points ready for diagnosis (all SI, ISO-W).
+
+    Attributes
+    ----------
+    inputs : ModelInputs
+        Operating conditions of each point and the reference values.
+    fy : ndarray
+        Measured lateral force [N].
+    sweep : ndarray of int
+        Sweep index 0..n_sweeps-1 of each point.
+    levels : dict
+        factor -> level values (SI) for ``fz``, ``camber``, ``pressure``, ``speed``.
+    level_index : dict
+        factor -> level index of each point.
+    cell : ndarray of int
+        Condition cell (load x camber x pressure x speed level) of each point.
+    summary : DataSummary
+    n_raw : int
+        Points before thinning.
+    source : str
+    """
+
+    inputs: ModelInputs
+    fy: np.ndarray
+    sweep: np.ndarray
+    levels: dict[str, np.ndarray]
+    level_index: dict[str, np.ndarray]
+    cell: np.ndarray
+    summary: DataSummary
+    n_raw: int
+    source: str = ""
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def n(self) -> int:
+        return len(self.fy)
+
+    @property
+    def n_sweeps(self) -> int:
+        return int(self.sweep.max()) + 1 if len(self.sweep) else 0
+
+    @property
+    def has(self) -> dict[str, bool]:
+        """Which optional conditions the data carry."""
+        return {"pressure": self.inputs.pressure is not None, "speed": self.inputs.speed is not None}
+
+    def sweep_cells(self) -> np.ndarray:
+        """Cell of each sweep."""
+        out = np.zeros(self.n_sweeps, dtype=int)
+        out[self.sweep] = self.cell
+        return out
+
+    def sweep_level(self, factor: str) -> np.ndarray:
+        """Level index of ``factor`` for each sweep."""
+        out = np.zeros(self.n_sweeps, dtype=int)
+        out[self.sweep] = self.level_index[factor]
+        return out
+
+    def frame(self) -> pd.DataFrame:
+        """The prepared points as a DataFrame (SI)."""
+        x = self.inputs
+        d = {"sweep": self.sweep, "cell": self.cell, "fz": x.fz, "slip_angle": x.slip_angle,
+             "camber": x.camber, "fy": self.fy}
+        if x.pressure is not None:
+            d["pressure"] = x.pressure
+        if x.speed is not None:
+            d["speed"] = x.speed
+        for f, idx in self.level_index.items():
+            d[f"{f}_level"] = self.levels[f][idx]
+        return pd.DataFrame(d)
+
+
+def _frame_of(data) -> tuple[pd.DataFrame, str, dict]:
+    if isinstance(data, pd.DataFrame):
+        return data, "DataFrame", {}
+    df = getattr(data, "df", None)
+    if isinstance(df, pd.DataFrame):
+        return df, str(getattr(data, "source", "")), dict(getattr(data, "meta", {}) or {})
+    raise DataError(f"diagnose needs a Dataset or a DataFrame, got {type(data).__name__}")
+
+
+def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 100) -> SweepData:
+    """Turn a Dataset (or a DataFrame with canonical SI columns) into :class:`SweepData`.
+
+    Parameters
+    ----------
+    data : Dataset or DataFrame
+        Needs ``fy`` [N], ``slip_angle`` [rad], ``fz`` [N]; uses ``run``,
+        ``camber`` [rad], ``pressure`` [Pa], ``speed`` [m/s] when present.
+    rated_load : float, optional
+        Rated load [N] (for the ``overload`` effect); default ``meta['rated_load']``.
+    max_points_per_sweep : int
+        Longer sweeps are thinned evenly to this many points.
+    """
+    df, source, meta = _frame_of(data)
+    missing = [c for c in ("fy", "slip_angle", "fz") if c not in df.columns]
+    if missing:
+        raise ColumnError(f"{source or 'data'}: diagnose needs lateral-force slip sweeps; missing column(s) "
+                          f"{', '.join(missing)} (have: {', '.join(map(str, df.columns))})")
+    cols = ["fy", "slip_angle", "fz"] + [c for c in ("run", "camber", "pressure", "speed") if c in df.columns]
+    d = df[cols].apply(pd.to_numeric, errors="coerce")
+    keep = d[["fy", "slip_angle", "fz"]].notna().all(axis=1).to_numpy().copy()
+    for c in ("camber", "pressure", "speed"):
+        if c in d.columns and d[c].isna().all():
+            d = d.drop(columns=c)
+        elif c in d.columns:
+            keep &= d[c].notna().to_numpy()
+    d = d[keep].reset_index(drop=True)
+    if len(d) < 20:
+        raise DataError(f"{source or 'data'}: only {len(d)} usable lateral-force points; diagnose needs sweeps "
+                        "(at least 20 points)")
+    if (d["fz"] <= 0).mean() > 0.5:
+        raise DataError(f"{source or 'data'}: most fz values are <= 0 N; fz must be positive in compression "
+                        "(ISO-W) - for FSAE TTC files pass --convention sae")
+    d = d[d["fz"] > 0].reset_index(drop=True)
+    n_raw = len(d)
+    camber = d["camber"].to_numpy(float) if "camber" in d.columns else np.zeros(n_raw)
+    # condition levels and sweeps
+    levels, lidx = {}, {}
+    for f in FACTORS:
+        if f == "camber" or f in d.columns:
+            vals = camber if f == "camber" else d[f].to_numpy(float)
+            levels[f], lidx[f] = condition_levels(vals, FACTORS[f][0])
+    run = d["run"].to_numpy() if "run" in d.columns else np.zeros(n_raw)
+    key = np.column_stack([pd.factorize(run)[0]] + [lidx[f] for f in lidx])
+    change = np.r_[True, (np.diff(key, axis=0) != 0).any(axis=1)]
+    seg = np.cumsum(change) - 1
+    # drop short segments (ramps between set points)
+    counts = np.bincount(seg)
+    ok = counts[seg] >= 8
+    if not ok.all():
+        d, camber, seg = d[ok].reset_index(drop=True), camber[ok], seg[ok]
+        lidx = {f: v[ok] for f, v in lidx.items()}
+    # merge segments of the same run and condition (a run revisiting a condition is one sweep cluster)
+    key = np.column_stack([pd.factorize(d["run"].to_numpy() if "run" in d.columns else np.zeros(len(d)))[0]]
+                          + [lidx[f] for f in lidx])
+    sweep = pd.factorize(pd.MultiIndex.from_arrays(key.T))[0]
+    # thin long sweeps evenly along the record
+    take = []
+    for s in range(sweep.max() + 1):
+        idx = np.flatnonzero(sweep == s)
+        if len(idx) > max_points_per_sweep:
+            idx = idx[np.unique(np.round(np.linspace(0, len(idx) - 1, max_points_per_sweep)).astype(int))]
+        take.append(idx)
+    take = np.sort(np.concatenate(take))
+    notes = []
+    if len(take) < len(d):
+        notes.append(f"{len(d)} points thinned to {len(take)} (at most {max_points_per_sweep} per sweep, "
+                     "spread evenly along each record)")
+    d, camber, sweep = d.iloc[take].reset_index(drop=True), camber[take], sweep[take]
+    lidx = {f: v[take] for f, v in lidx.items()}
+    sweep = pd.factorize(sweep, sort=True)[0]
+    if "fz" not in lidx:  # pragma: no cover - fz is required
+        raise DataError("no fz")
+    cell = pd.factorize(pd.MultiIndex.from_arrays([lidx[f] for f in lidx]), sort=True)[0]
+    pressure = d["pressure"].to_numpy(float) if "pressure" in d.columns else None
+    speed = d["speed"].to_numpy(float) if "speed" in d.columns else None
+
+    def _ref(f):
+        lv = levels.get(f)
+        if lv is None:
+            return None
+        return float(lv[len(lv) // 2])  # the middle level
+
+    rated = rated_load if rated_load is not None else meta.get("rated_load")
+    if rated is not None and not (np.isfinite(rated) and rated > 0):
+        raise DataError(f"rated load must be a positive force in N, got {rated}")
+    inputs = ModelInputs(fz=d["fz"].to_numpy(float), slip_angle=d["slip_angle"].to_numpy(float), camber=camber,
+                         pressure=pressure, speed=speed, rated_load=None if rated is None else float(rated),
+                         pressure_ref=_ref("pressure"), speed_ref=_ref("speed"))
+    sa = inputs.slip_angle
+    summary = DataSummary(
+        fz_levels=tuple(map(float, levels["fz"])),
+        camber_levels=tuple(map(float, levels["camber"])),
+        pressure_levels=tuple(map(float, levels.get("pressure", ()))),
+        speed_levels=tuple(map(float, levels.get("speed", ()))),
+        slip_min=float(np.quantile(sa, 0.005)), slip_max=float(np.quantile(sa, 0.995)),
+        rated_load=inputs.rated_load, n_sweeps=int(sweep.max()) + 1)
+    return SweepData(inputs=inputs, fy=d["fy"].to_numpy(float), sweep=sweep, levels=levels, level_index=lidx,
+                     cell=cell, summary=summary, n_raw=n_raw, source=source, notes=notes)

@@ -1,0 +1,213 @@
+"""The HTML report of a diagnosis: the whole loop on one page.
+
+Fit-vs-data views, where the start model fails (cells, residual maps, even and
+odd parts), the evidence table with a status for every catalogue effect, the
+error waterfall against the noise floor, a signature plot and physics card per
+accepted effect, what it means for an exported PAC89 ``.tir``, and the check
+for structure still unexplained.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..effects import EFFECTS, get_effect
+from ..io.outputs import staged_dir, write_text
+from ..report import Report, esc
+from . import views
+
+__all__ = ["write_report", "build_report"]
+
+_STATUS_TEXT = {
+    "accepted": "the data need it: significant, confirmed on held-out sweeps and levels, stable",
+    "in start model": "given with --start",
+    "not significant": "the data show no evidence for it (which is not evidence that the tyre lacks it)",
+    "not testable with these data": "the data cannot show it either way; the reason says what test is missing",
+    "significant but not confirmed": "the screening test found something, but the held-out check did not confirm it",
+    "variant not distinguishable": "fits as well as the accepted variant of its family; the data cannot tell them apart",
+    "covered": "its terms are already part of an effect in the model",
+    "confirmed, not added": "confirmed, but another effect explained more in that round",
+    "significant, not refitted": "significant, ranked below the refitted candidates",
+}
+
+
+def _fmt(v, d=3):
+    if v is None or (isinstance(v, float) and not np.isfinite(v)):
+        return "–"
+    if isinstance(v, float):
+        return f"{v:.{d}g}"
+    return str(v)
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def build_report(dg) -> tuple[Report, dict[str, str]]:
+    """Build the report of ``dg``; returns the Report and CSV tables (name -> text)."""
+    plt = _plt()
+    d = dg.data
+    x = d.inputs
+    first, last = dg.steps[0], dg.steps[-1]
+    title = f"tyrefit diagnose — {Path(d.source).name if d.source else 'data'}"
+    r = Report(title)
+    cond = [f"loads {', '.join(f'{v / 1e3:.2f}' for v in d.levels['fz'])} kN",
+            f"cambers {', '.join(f'{np.degrees(v):.1f}' for v in d.levels['camber'])} deg"]
+    if "pressure" in d.levels:
+        cond.append(f"pressures {', '.join(f'{v / 1e3:.0f}' for v in d.levels['pressure'])} kPa")
+    if "speed" in d.levels:
+        cond.append(f"speeds {', '.join(f'{v * 3.6:.0f}' for v in d.levels['speed'])} km/h")
+    r.p(f"Data: {d.n} points in {d.n_sweeps} sweeps; " + "; ".join(cond)
+        + (f"; rated load {x.rated_load / 1e3:.2f} kN" if x.rated_load else "; rated load not given")
+        + ". " + " ".join(d.notes))
+    acc = ", ".join(dg.accepted) if dg.accepted else "nothing beyond the start model"
+    r.raw(
+        "<div class='note'><b>Result.</b> Start model: base PAC89"
+        + (esc(" + " + ", ".join(dg.start)) if dg.start else "")
+        + f". Accepted, in order: <b>{esc(acc)}</b>. "
+        f"Lateral-force RMSE {first.rmse:.1f} N → {last.rmse:.1f} N "
+        f"(held-out sweeps {first.rmse_heldout:.1f} N → {last.rmse_heldout:.1f} N); "
+        f"within-sweep noise floor {dg.noise_floor:.1f} N. {esc(dg.unexplained.get('summary', ''))}</div>")
+
+    # -- the loop ----------------------------------------------------------------------
+    r.h2("1. The loop: error from the start model to the final model")
+    fig, ax = plt.subplots(figsize=(7, 3.8))
+    views.plot_waterfall(dg, ax=ax)
+    r.figure(fig, "Error waterfall: each bar pair is one model; held-out RMSE predicts whole sweeps the fit "
+                  "never saw. The dashed line is the within-sweep noise floor (a separate smooth curve through "
+                  "every sweep); a model cannot do better than it on average.")
+    r.table([{"step": i, "added": s.added or "(start)", "effects": ", ".join(s.effects) or "base PAC89",
+              "RMSE [N]": s.rmse, "held-out RMSE [N]": s.rmse_heldout,
+              "held-out levels RMSE [N]": s.rmse_levelout} for i, s in enumerate(dg.steps)], digits=4)
+
+    # -- evidence ------------------------------------------------------------------------
+    r.h2("2. Evidence for every catalogue effect")
+    r.p("Each testable effect is screened with a score test at its neutral value whose null distribution "
+        "comes from a wild bootstrap that flips whole sweeps (residuals along a sweep are correlated, so "
+        "point-wise tests find effects in pure noise); p-values are Holm-corrected across the effects of a "
+        f"round (family-wise level {dg.settings.alpha:g}). Significant candidates are refitted and must lower "
+        f"the RMSE on held-out sweeps by at least {100 * dg.settings.margin:.0f} % of the noise floor "
+        f"({dg.settings.margin * dg.noise_floor:.2f} N), not worsen held-out interior load/camber/pressure "
+        f"levels, improve >= {100 * dg.settings.min_folds_improved:.0f} % of the sweep folds and keep a "
+        f"positive gain in >= {100 * dg.settings.min_boot_prob:.0f} % of sweep resamples.")
+    rows = []
+    for eid in EFFECTS:
+        c = dg.candidates[eid]
+        rows.append({"effect": eid, "family": c.family, "status": c.status, "round": _fmt(c.round),
+                     "Holm p": _fmt(c.p_holm), "held-out gain [N]": _fmt(c.delta_heldout),
+                     "levels gain [N]": _fmt(c.delta_levelout), "stability": _fmt(c.boot_prob),
+                     "why": c.reason})
+    r.table(rows)
+    r.bullets([f"{k}: {v}" for k, v in _STATUS_TEXT.items() if any(c.status == k for c in dg.candidates.values())])
+
+    # -- where it fails --------------------------------------------------------------------
+    r.h2("3. Where the start model fails, and where the final model still does")
+    fig = plt.figure(figsize=(2.6 * len(views.facets(d)) + 1.2, 5.4))
+    views.plot_residual_maps(dg, fig=fig)
+    r.figure(fig, "Mean residual (model − data) over slip angle and load, one panel per camber/pressure facet; "
+                  "top row start model, bottom row final model, one colour scale for all panels.")
+    fig, ax = plt.subplots(figsize=(7.5, 3.4))
+    views.plot_even_odd(dg, ax=ax)
+    r.figure(fig, "Even and odd residual parts per sweep. Lateral force is odd in slip angle, so a missing "
+                  "shift (offsets, camber thrust) leaves an even residual; a missing stiffness, friction or "
+                  "shape term leaves an odd one.")
+    cells0 = dg.cell_table(0)
+    cells1 = dg.cell_table(-1)
+    cells = cells0.rename(columns={"rmse_N": "start RMSE [N]", "bias_N": "start bias [N]"})
+    cells["final RMSE [N]"] = cells1["rmse_N"].to_numpy()
+    cells["final bias [N]"] = cells1["bias_N"].to_numpy()
+    r.h3("RMSE and bias per condition cell (bias = mean of model − data)")
+    r.table(cells, digits=4)
+
+    # -- fit vs data -----------------------------------------------------------------------
+    r.h2("4. Fit against the data")
+    fc = views.facets(d)
+    ncol = min(3, len(fc))
+    nrow = int(np.ceil(len(fc) / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.3 * ncol, 3.3 * nrow), squeeze=False)
+    for k, f in enumerate(fc):
+        views.plot_fit(dg, f, ax=axes[k // ncol, k % ncol])
+    for k in range(len(fc), nrow * ncol):
+        axes[k // ncol, k % ncol].set_visible(False)
+    fig.tight_layout()
+    r.figure(fig, "Measured lateral force (dots) with the start model (dotted) and the final model (solid), "
+                  "one colour per load.")
+
+    # -- accepted effects ------------------------------------------------------------------------
+    r.h2("5. The effects that were added")
+    if not dg.accepted:
+        r.p("None: the data show nothing the start model misses at the practical margin. Effects reported "
+            "'not testable' above may still be present in the tyre; the test that would show them is named "
+            "in their row.")
+    for eid in dg.accepted:
+        e = get_effect(eid)
+        r.h3(f"{eid} — {e.title}")
+        fig, ax = plt.subplots(figsize=(6, 3.9))
+        e.plot_signature(views.signature_view(dg, eid), ax=ax)
+        r.figure(fig, f"Signature of {eid}: per-sweep characteristic of the data (points), the model without "
+                      "the effect (dashed) and with it (solid).")
+        r.table(e.card.as_rows())
+        vals = dg.final.fit.values
+        r.table([{"parameter": p.name, "fitted": vals.get(p.name, float("nan")), "unit": p.unit,
+                  "plausible range": f"{p.plausible[0]:g} … {p.plausible[1]:g}",
+                  "in range": "yes" if p.plausible[0] <= vals.get(p.name, np.nan) <= p.plausible[1] else "no",
+                  "meaning": p.meaning} for p in e.params], digits=4)
+        r.p(f"PAC89: {e.pac89_note}", cls=None if e.representable else "warn")
+
+    # -- .tir ----------------------------------------------------------------------------------
+    r.h2("6. What it means for the exported .tir")
+    vary, notes = dg.pac89()
+    ex = dg.export
+    r.p(f"A PAC89 .tir of the final model frees {', '.join(vary)}. "
+        + ("Every accepted effect is a PAC89 term, so the .tir reproduces the final model "
+           f"(RMSE {ex['rmse']:.1f} N)." if ex.get("same_as_final") else
+           f"Not every accepted effect fits in PAC89: refitted with only PAC89 terms "
+           f"({', '.join(ex['effects']) or 'base'}), the .tir has RMSE {ex['rmse']:.1f} N against "
+           f"{last.rmse:.1f} N for the final model."))
+    if notes:
+        r.bullets(notes)
+    cmd_eff = ",".join(dg.effects)
+    r.p(f"To export: tyrefit fit {Path(d.source).name if d.source else 'DATA'}"
+        + (f" --effects {cmd_eff}" if cmd_eff else "") + " --out tyre.tir")
+    coef = ex.get("coefficients", {})
+    r.table([{"coefficient": k, "value": v, "freed by": next((e for e in dg.effects
+                                                             if k in get_effect(e).pac89 + get_effect(e).pac89_approx),
+                                                            "start model" if k in ("a0", "a2", "a3", "a4", "a7") else "–")}
+             for k, v in coef.items()], digits=5)
+
+    # -- unexplained -----------------------------------------------------------------------------
+    r.h2("7. Structure still unexplained")
+    u = dg.unexplained
+    r.p(u.get("summary", ""), cls="warn" if u.get("structure_found") else "note")
+    if u.get("cells"):
+        r.table(pd.DataFrame(u["cells"][:6]), digits=3, caption="cells with the largest error (final model)")
+    if u.get("slip_bins"):
+        r.table([{"slip range [deg]": f"{b['slip_deg'][0]:.1f} … {b['slip_deg'][1]:.1f}",
+                  "mean residual [N]": b["mean_N"], "sweep-robust SE [N]": b["se_N"]} for b in u["slip_bins"]],
+                digits=3, caption="final residual by slip range (mean over sweeps)")
+    r.json_block(dg.to_dict(), "diagnosis JSON")
+    tables = {"cells.csv": cells.to_csv(index=False),
+              "candidates.csv": pd.DataFrame([dg.candidates[e].to_dict() for e in EFFECTS])
+              .drop(columns=["parameters"], errors="ignore").to_csv(index=False),
+              "steps.csv": pd.DataFrame([{"effects": "+".join(s.effects), "added": s.added, "rmse_N": s.rmse,
+                                          "rmse_heldout_N": s.rmse_heldout} for s in dg.steps]).to_csv(index=False)}
+    return r, tables
+
+
+def write_report(dg, directory: str | os.PathLike, force: bool = False) -> Path:
+    """Write ``directory/index.html`` and CSV tables atomically; return the index path."""
+    report, tables = build_report(dg)
+    with staged_dir(directory, force=force) as tmp:
+        write_text(tmp / "index.html", report.html(), force=True)
+        for name, text in tables.items():
+            write_text(tmp / name, text, force=True)
+    return Path(directory) / "index.html"

@@ -1,0 +1,160 @@
+"""The :class:`Diagnosis` container: what was found, with the evidence and views."""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..effects import EFFECTS, get_effect, resolve_pac89
+from .data import SweepData
+from .engine import Candidate, Settings, Step
+
+__all__ = ["Diagnosis"]
+
+
+@dataclass
+class Diagnosis:
+    """Result of :func:`tyrefit.diagnose.diagnose`.
+
+    Attributes
+    ----------
+    data : SweepData
+        The prepared sweeps.
+    start : list of str
+        Effects in the start model.
+    accepted : list of str
+        Effects added, in order (empty when the data show nothing beyond the start model).
+    steps : list of Step
+        Start model, then one step per accepted effect (fit, held-out residuals).
+    candidates : dict
+        Effect id -> :class:`Candidate` evidence, one per catalogue effect.
+    noise_floor : float
+        Within-sweep noise [N].
+    unexplained : dict
+        Final check for structure still unexplained (``summary``, ``where``, ``p_value``).
+    export : dict
+        The final model refitted with only what a PAC89 ``.tir`` can hold
+        (``effects``, ``rmse`` [N], ``coefficients`` a0..a13).
+    """
+
+    data: SweepData
+    start: list[str]
+    accepted: list[str]
+    steps: list[Step]
+    candidates: dict[str, Candidate]
+    noise_floor: float
+    noise_floor_per_sweep: np.ndarray
+    settings: Settings
+    seed: int
+    unexplained: dict = field(default_factory=dict)
+    export: dict = field(default_factory=dict)
+    seconds: float = float("nan")
+
+    # -- summaries -------------------------------------------------------------------
+    @property
+    def final(self) -> Step:
+        return self.steps[-1]
+
+    @property
+    def effects(self) -> list[str]:
+        """Effects of the final model."""
+        return list(self.final.effects)
+
+    def pac89(self) -> tuple[list[str], list[str]]:
+        """PAC89 coefficients to vary for the final model's effects, and notes (see resolve_pac89)."""
+        return resolve_pac89(self.effects)
+
+    def tir_coefficients(self) -> dict[str, float]:
+        """PAC89 a0..a13 for a ``.tir``: the final model refitted with only what PAC89 can hold."""
+        return dict(self.export.get("coefficients", {}))
+
+    def cell_table(self, step: Step | int = -1) -> pd.DataFrame:
+        """RMSE and bias [N] per condition cell (load x camber x pressure x speed) for a step."""
+        st = self.steps[step] if isinstance(step, int) else step
+        d = self.data
+        x = d.inputs
+        r = st.fit.resid
+        df = pd.DataFrame({"cell": d.cell, "fz": d.levels["fz"][d.level_index["fz"]],
+                           "camber": d.levels["camber"][d.level_index["camber"]], "r": r})
+        keys = ["fz", "camber"]
+        for f in ("pressure", "speed"):
+            if f in d.levels:
+                df[f] = d.levels[f][d.level_index[f]]
+                keys.append(f)
+        g = df.groupby(keys)
+        out = pd.DataFrame({"points": g.size(), "rmse_N": g["r"].apply(lambda v: float(np.sqrt(np.mean(v**2)))),
+                            "bias_N": g["r"].mean()}).reset_index()
+        out.insert(0, "fz_kN", out.pop("fz") / 1e3)
+        out.insert(1, "camber_deg", np.degrees(out.pop("camber")))
+        if "pressure" in out:
+            out.insert(2, "pressure_kPa", out.pop("pressure") / 1e3)
+        if "speed" in out:
+            out.insert(3, "speed_kmh", out.pop("speed") * 3.6)
+        del x
+        return out
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict with the keys of the DESIGN contract (and more)."""
+        vary, notes = self.pac89()
+        d = self.data
+        return {
+            "start": list(self.start),
+            "accepted": list(self.accepted),
+            "noise_floor": float(self.noise_floor),
+            "steps": [{"effects": s.effects, "rmse": float(s.rmse), "rmse_heldout": float(s.rmse_heldout),
+                       "rmse_levelout": _num(s.rmse_levelout), "added": s.added} for s in self.steps],
+            "candidates": [self.candidates[e].to_dict() for e in EFFECTS],
+            "unexplained": {k: v for k, v in self.unexplained.items() if k in ("summary", "where", "p_value",
+                                                                               "structure_found", "directions")},
+            "pac89": {"vary": vary, "notes": notes, "effects": self.export.get("effects", []),
+                      "rmse": _num(self.export.get("rmse")), "coefficients": self.tir_coefficients()},
+            "parameters": {k: float(v) for k, v in self.final.fit.values.items()},
+            "data": {"source": d.source, "points": d.n, "points_raw": d.n_raw, "sweeps": d.n_sweeps,
+                     "conditions": {"fz": list(map(float, d.levels["fz"])),
+                                    "camber_deg": [float(np.degrees(c)) for c in d.levels["camber"]],
+                                    **({"pressure": list(map(float, d.levels["pressure"]))}
+                                       if "pressure" in d.levels else {}),
+                                    **({"speed": list(map(float, d.levels["speed"]))} if "speed" in d.levels else {})},
+                     "rated_load": d.inputs.rated_load, "notes": list(d.notes)},
+            "settings": dict(self.settings.__dict__),
+            "seed": self.seed,
+            "seconds": float(self.seconds),
+        }
+
+    def to_json(self, path: str | os.PathLike | None = None, force: bool = False) -> str:
+        """The diagnosis as JSON text; also written atomically to ``path`` when given."""
+        text = json.dumps(self.to_dict(), indent=2) + "\n"
+        if path is not None:
+            from ..io.outputs import write_text
+
+            write_text(path, text, force=force)
+        return text
+
+    def report(self, directory: str | os.PathLike, force: bool = False) -> Path:
+        """Write the HTML report ``directory/index.html`` (plus CSV tables); return its path."""
+        from .report import write_report
+
+        return write_report(self, directory, force=force)
+
+    def summary(self) -> str:
+        """A few lines for the terminal."""
+        lines = [f"start model: base PAC89" + (" + " + ", ".join(self.start) if self.start else ""),
+                 f"noise floor (within-sweep): {self.noise_floor:.1f} N"]
+        for s in self.steps:
+            lines.append(f"  {'+ ' + s.added if s.added else 'start':<28} RMSE {s.rmse:8.1f} N   "
+                         f"held-out {s.rmse_heldout:8.1f} N")
+        lines.append("accepted: " + (", ".join(self.accepted) if self.accepted else "nothing beyond the start model"))
+        lines.append(self.unexplained.get("summary", ""))
+        return "\n".join(lines)
+
+    def family_of(self, effect_id: str) -> str:
+        return get_effect(effect_id).family
+
+
+def _num(x):
+    return None if x is None or not np.isfinite(x) else float(x)

@@ -1,0 +1,371 @@
+"""The effect catalogue: every named extension of the PAC89 lateral-force model.
+
+The registry :data:`EFFECTS` maps effect id -> :class:`~tyrefit.effects.base.Effect`.
+Ids start with their family name so a variant can be reported
+(``camber_thrust`` is a variant of ``camber``).  The *start model* of
+``tyrefit diagnose`` is base PAC89 with the parameters :data:`BASE`
+(C = a0, one friction coefficient a2, the cornering-stiffness load law a3, a4,
+constant curvature a7); every other PAC89 lateral coefficient is 0 until an
+effect frees it.
+
+Families
+--------
+``load_friction``   degressive friction with load (a1)
+``curvature_load``  curvature changing with load (a6)
+``overload``        grip falling above the rated load (seed 003 Sec. 4.2; not PAC89)
+``camber``          camber thrust, shift and stiffness loss (a5, a8, a11; seed 001)
+``offsets``         ply steer and conicity shifts (a9, a10, a12, a13)
+``pressure``        inflation pressure on stiffness and grip (not PAC89)
+``speed``           travel speed on grip and stiffness (not PAC89)
+
+References
+----------
+Komana, Els, Becker, *Cost efficient tyre testing, modelling and validation for
+PBS assessments* (seed 003).  Zhang et al., *Estimation of road adhesion
+coefficient based on camber brush model*, WEVJ 15 (2024) 263 (seed 001).
+Pacejka, *Tire and Vehicle Dynamics* (MF 6.1 pressure terms PPY1, PPY3).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+from ..errors import DataError, close_matches
+from .base import DataSummary, Effect, ModelInputs, Param, PhysicsCard
+from .model import overload_factor, relative_factor
+
+__all__ = ["BASE", "BASE_NAMES", "EFFECTS", "FAMILIES", "get_effect", "parse_effects", "resolve_pac89"]
+
+_DEG = 3.141592653589793 / 180.0
+
+#: parameters of the start model (base PAC89), PAC89 units
+BASE: tuple[Param, ...] = (
+    Param("a0", 1.5, (0.8, 3.0), (1.2, 1.9), "-", 1.0, "shape factor C"),
+    Param("a2", 1000.0, (20.0, 5000.0), (600.0, 1600.0), "N/kN", 1000.0,
+          "friction: peak D = a2 Fz (1000 x the friction coefficient)"),
+    Param("a3", 1500.0, (1.0, 1e6), (200.0, 1e5), "N/deg", 1000.0, "maximum cornering stiffness"),
+    Param("a4", 10.0, (0.2, 1000.0), (2.0, 200.0), "kN", 10.0, "load at maximum cornering stiffness"),
+    Param("a7", 0.0, (-30.0, 1.0), (-3.0, 1.0), "-", 1.0, "curvature factor E"),
+)
+BASE_NAMES: tuple[str, ...] = tuple(p.name for p in BASE)
+
+
+# --- testability rules ------------------------------------------------------------
+def _loads(n: int, reach_deg: float = 0.0):
+    def rule(s: DataSummary) -> str | None:
+        if len(s.fz_levels) < n:
+            return f"needs >= {n} load levels (found {len(s.fz_levels)})"
+        if reach_deg and s.slip_extent < reach_deg * _DEG:
+            return (f"needs slip sweeps beyond the peak, |slip angle| >= {reach_deg:g} deg "
+                    f"(found {s.slip_extent / _DEG:.1f} deg)")
+        return None
+    return rule
+
+
+def _overload(s: DataSummary) -> str | None:
+    if s.rated_load is None:
+        return "needs the rated load (--rated-load NEWTONS)"
+    above = [f for f in s.fz_levels if f > 1.02 * s.rated_load]
+    below = [f for f in s.fz_levels if f <= 1.02 * s.rated_load]
+    if not above:
+        return (f"needs loads above the rated load {s.rated_load:.0f} N "
+                f"(highest load level {max(s.fz_levels):.0f} N)")
+    if len(below) < 2:
+        return f"needs >= 2 load levels at or below the rated load {s.rated_load:.0f} N (found {len(below)})"
+    if s.slip_extent < 5 * _DEG:
+        return f"needs slip sweeps beyond the peak, |slip angle| >= 5 deg (found {s.slip_extent / _DEG:.1f} deg)"
+    return None
+
+
+def _cambers(n: int):
+    def rule(s: DataSummary) -> str | None:
+        if len(s.camber_levels) < n:
+            return f"needs >= {n} camber levels (found {len(s.camber_levels)})"
+        return None
+    return rule
+
+
+def _both_signs(loads: int = 1):
+    def rule(s: DataSummary) -> str | None:
+        if s.slip_reach < 1.0 * _DEG:
+            return ("needs slip sweeps through zero in both directions, |slip angle| >= 1 deg each side "
+                    f"(found {s.slip_min / _DEG:.1f} to {s.slip_max / _DEG:.1f} deg)")
+        if len(s.fz_levels) < loads:
+            return f"needs >= {loads} load levels (found {len(s.fz_levels)})"
+        return None
+    return rule
+
+
+def _levels(attr: str, what: str, n: int = 2):
+    def rule(s: DataSummary) -> str | None:
+        k = len(getattr(s, attr))
+        if k < n:
+            return f"needs >= {n} {what} levels (found {k})"
+        return None
+    return rule
+
+
+# --- modifiers (pure, vectorised; neutral -> multipliers exactly 1.0) -------------------
+def _scale_d(coef: dict, m) -> None:
+    coef["a1"] = coef["a1"] * m
+    coef["a2"] = coef["a2"] * m
+
+
+def _apply_overload(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    _need(x, "fz", "rated_load")
+    _scale_d(coef, overload_factor(x.fz, x.rated_load, v["overload_mu"]))  # Komana et al., Sec. 4.2
+
+
+def _apply_overload_stiffness(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    _need(x, "fz", "rated_load")
+    _scale_d(coef, overload_factor(x.fz, x.rated_load, v["overload_mu"]))
+    coef["a3"] = coef["a3"] * overload_factor(x.fz, x.rated_load, v["overload_ky"])
+
+
+def _need(x: ModelInputs, what: str, ref: str) -> None:
+    if getattr(x, what) is None or getattr(x, ref) is None:
+        raise DataError(f"this effect needs the {what} of every point and a reference {what} "
+                        f"(ModelInputs.{what}, ModelInputs.{ref})")
+
+
+def _apply_pressure(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    _need(x, "pressure", "pressure_ref")
+    # MF 6.1 style: Kya (1 + PPY1 dpi), mu (1 + PPY3 dpi), dpi = (p - p0)/p0
+    if "pressure_mu" in v:
+        _scale_d(coef, relative_factor(x.pressure, x.pressure_ref, v["pressure_mu"]))
+    if "pressure_ky" in v:
+        coef["a3"] = coef["a3"] * relative_factor(x.pressure, x.pressure_ref, v["pressure_ky"])
+
+
+def _apply_speed(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    _need(x, "speed", "speed_ref")
+    _scale_d(coef, relative_factor(x.speed, x.speed_ref, v["speed_mu"]))
+    coef["a3"] = coef["a3"] * relative_factor(x.speed, x.speed_ref, v["speed_ky"])
+
+
+# --- parameters ------------------------------------------------------------------
+_A1 = Param("a1", 0.0, (-2000.0, 500.0), (-80.0, 0.0), "N/kN^2", 10.0,
+            "degressive friction: D = a1 Fz^2 + a2 Fz")
+_A5 = Param("a5", 0.0, (-0.2, 0.2), (0.0, 0.02), "1/deg", 0.005,
+            "cornering-stiffness loss with camber: BCD (1 - a5 |gamma|)")
+_A6 = Param("a6", 0.0, (-2.0, 2.0), (-0.1, 0.1), "1/kN", 0.02, "curvature change with load: E = a6 Fz + a7")
+_A8 = Param("a8", 0.0, (-2.0, 2.0), (-0.2, 0.2), "deg/deg", 0.01, "horizontal shift with camber: Sh = a8 gamma")
+_A9 = Param("a9", 0.0, (-2.0, 2.0), (-0.05, 0.05), "deg/kN", 0.01, "horizontal shift with load: Sh = a9 Fz")
+_A10 = Param("a10", 0.0, (-5.0, 5.0), (-0.5, 0.5), "deg", 0.1, "constant horizontal shift (ply steer / conicity)")
+_A11 = Param("a11", 0.0, (-1000.0, 1000.0), (-40.0, 40.0), "N/(kN deg)", 10.0,
+             "camber thrust: Sv = a11 Fz gamma")
+_A12 = Param("a12", 0.0, (-1000.0, 1000.0), (-30.0, 30.0), "N/kN", 10.0, "vertical shift with load: Sv = a12 Fz")
+_A13 = Param("a13", 0.0, (-5000.0, 5000.0), (-300.0, 300.0), "N", 50.0, "constant vertical shift (residual force)")
+_OV_MU = Param("overload_mu", 0.0, (-1.0, 3.0), (0.0, 1.0), "-", 0.3,
+               "friction loss per rated load of overload: D (1 - k max(0, Fz - Fr)/Fr)")
+_OV_KY = Param("overload_ky", 0.0, (-1.0, 3.0), (0.0, 1.0), "-", 0.3,
+               "cornering-stiffness loss per rated load of overload")
+_P_KY = Param("pressure_ky", 0.0, (-5.0, 5.0), (-0.5, 1.0), "-", 0.3,
+              "cornering-stiffness change per relative pressure change (MF 6.1 PPY1)")
+_P_MU = Param("pressure_mu", 0.0, (-5.0, 5.0), (-0.6, 0.3), "-", 0.2,
+              "friction change per relative pressure change (MF 6.1 PPY3)")
+_S_MU = Param("speed_mu", 0.0, (-5.0, 5.0), (-0.3, 0.1), "-", 0.1, "friction change per relative speed change")
+_S_KY = Param("speed_ky", 0.0, (-5.0, 5.0), (-0.3, 0.3), "-", 0.1,
+              "cornering-stiffness change per relative speed change")
+
+# --- physics cards -----------------------------------------------------------------
+_CARD_LOAD_FRICTION = PhysicsCard(
+    what=("The friction coefficient falls as the load rises: contact pressure grows faster than the real "
+          "contact area and rubber friction is sub-linear in pressure, so the peak lateral force grows less "
+          "than in proportion to Fz (degressive friction)."),
+    size=("Peak mu falls 5-15 % per doubling of load on passenger tyres (a1 about -20 to -60 N/kN^2 with "
+          "a2 = 1000-1300 N/kN); more on truck tyres."),
+    test="Lateral-force sweeps through the peak at >= 3 loads (peak mu against Fz).",
+    vehicle=("Load transfer costs grip: the axle with more lateral load transfer saturates first, which sets "
+             "the limit understeer/oversteer balance."),
+    sources=("Komana et al. (seed 003) fit a1 with a2 in their PAC89 parameterisation (Sec. 4.3)",))
+
+_CARD_OVERLOAD = PhysicsCard(
+    what=("Above the rated load the contact patch turns rectangular and caves in at the centre line: the "
+          "pressure concentrates at the patch boundary and the centre lifts off, so less rubber touches the "
+          "road and the friction coefficient drops faster than the smooth load trend."),
+    size=("Komana et al. measure a static mu of about 0.75 below the rated 4250 kg of a 385/65R22.5 truck "
+          "tyre and lower above it; 5-20 % loss of mu at 40 % overload is typical."),
+    test="Lateral-force sweeps at loads below and above the rated load (give --rated-load).",
+    vehicle=("An overloaded axle loses grip and cornering stiffness: lower yaw damping and more rearward "
+             "amplification in PBS manoeuvres (seed 003)."),
+    sources=("Komana et al. (seed 003), Sec. 2 (patch shape, Fig. 1) and Sec. 4.2 (friction above the rated load)",))
+
+_CARD_CAMBER = PhysicsCard(
+    what=("On a cambered tyre the tread elements run through the patch on a curved path: the camber brush "
+          "model (Zhang et al., seed 001) deflects the bristles sideways by y = -(a^2 - x^2) sin(gamma)/(2 Re) "
+          "(Eq. 19) even at zero slip, giving a camber thrust -K_ygamma sin(gamma) with K_ygamma = "
+          "2 a^3 k_ty/(3 Re) (Eq. 20) that fades as the sliding zone grows (Eq. 22); PAC89 writes it as a "
+          "vertical shift a11 Fz gamma and a horizontal shift a8 gamma. Camber also narrows the contact "
+          "(Eq. 1) and pushes the pressure to one shoulder (Eqs. 2-16), which lowers the cornering "
+          "stiffness (a5)."),
+    size=("Camber thrust about 1-2.5 % of Fz per degree on passenger radials (a11 of 10-25 N/(kN deg)); "
+          "cornering-stiffness loss about 0.5 %/deg (a5 about 0.005/deg)."),
+    test="The same slip sweeps at >= 3 camber angles, e.g. -4, 0, +4 deg (>= 2 for thrust and shift only).",
+    vehicle=("Static camber adds a lateral force on each wheel and more grip in corners; camber gain in roll "
+             "shapes the steady-state handling; the road-adhesion estimate depends on it (seed 001)."),
+    sources=("Zhang et al. (seed 001) camber brush model, Eqs. 1, 17-22",
+             "tyrefit.models.brush (camber brush model, issue 7) computes these terms from the brush physics"))
+
+_CARD_OFFSETS = PhysicsCard(
+    what=("Ply steer (from the angle of the belt plies) and conicity (a slightly conical tyre) make a lateral "
+          "force at zero slip angle and shift the curve sideways: conicity acts like a small camber and flips "
+          "sign when the tyre is mounted the other way round; ply steer acts like a small slip angle."),
+    size="Residual lateral force of 50-300 N and slip offsets of 0.1-0.5 deg on passenger tyres.",
+    test=("Slip sweeps through zero in both directions; telling ply steer from conicity needs both mounting "
+          "sides or both rolling directions."),
+    vehicle="Vehicle pull and steering-wheel offset in straight running; negligible for limit handling.",
+    sources=("PAC89 shift terms Sh = a9 Fz + a10, Sv = a12 Fz + a13 (Bakker, Nyborg, Pacejka 1989)",))
+
+_CARD_PRESSURE = PhysicsCard(
+    what=("Inflation pressure stiffens the carcass and shortens and narrows the contact patch: cornering "
+          "stiffness rises with pressure (until the patch gets too short) and peak friction usually falls "
+          "slightly as the contact pressure rises."),
+    size=("+20 % pressure changes cornering stiffness by about +3 to +15 % and peak mu by about -2 to -6 % "
+          "on passenger tyres."),
+    test="The same sweeps at >= 2 inflation pressures.",
+    vehicle=("Front/rear pressure split is a handling tuning parameter (understeer gradient); under-inflation "
+             "lowers cornering stiffness and stability."),
+    sources=("Zhang et al. (seed 001) Eq. 1: contact width inversely related to pressure",
+             "Komana et al. (seed 003) Sec. 4.2: lateral stiffness directly proportional to inflation pressure",
+             "MF 6.1 pressure terms PPY1 (stiffness), PPY3 (friction)"))
+
+_CARD_CURVATURE = PhysicsCard(
+    what=("The shape of the curve around and after the peak changes with load: a longer patch at high load "
+          "makes the transition to full sliding more gradual, so the curvature factor E varies with Fz."),
+    size="a6 of -0.1 to +0.1 per kN; visible as a load-dependent slip at the peak and post-peak fall.",
+    test="Sweeps through and beyond the peak (|slip angle| >= 6 deg) at >= 2 loads.",
+    vehicle="How progressively an axle loses grip at the limit (driver feel, stability control thresholds).",
+    sources=("PAC89 E = a6 Fz + a7 (Bakker, Nyborg, Pacejka 1989)",))
+
+_CARD_SPEED = PhysicsCard(
+    what=("Rubber friction depends on sliding speed and temperature: at higher travel speed the peak friction "
+          "falls a little (more on wet roads) while the cornering stiffness changes little."),
+    size="-1 to -5 % peak mu per +50 km/h on dry surfaces.",
+    test="The same sweeps at >= 2 speeds.",
+    vehicle="Grip at motorway speed against manoeuvring speed; braking and lane-change margins.",
+    sources=("Pacejka, Tire and Vehicle Dynamics, MF 6.x speed scaling (LMUV)",))
+
+_NOT_PAC89_PRESSURE = ("not representable in PAC89 (no pressure input): export one .tir per pressure "
+                       "(fit each pressure's sweeps separately), or use an MF 6.1/6.2 file (PPY1 for "
+                       "cornering stiffness, PPY3/PPY4 for friction).")
+_NOT_PAC89_SPEED = ("not representable in PAC89 (no speed input): export one .tir per speed range, or use an "
+                    "MF 6.x file with speed scaling (LMUV).")
+_NOT_PAC89_OVERLOAD = ("not representable in PAC89 exactly: D = a1 Fz^2 + a2 Fz is one smooth parabola, so a1 < 0 "
+                       "can absorb a friction fall spread over the fitted load range but not a knee at the rated "
+                       "load (it then under-predicts grip below the rating or over-predicts it above). Refit a1, "
+                       "a2 on the load range the vehicle uses, or export separate .tir files below and above the "
+                       "rating; MF 6.x (PDY2) is also smooth.")
+
+
+def _effects() -> list[Effect]:
+    return [
+        Effect("load_friction", "load_friction", "degressive friction with load", (_A1,),
+               "sweeps through the peak at >= 3 load levels", _loads(3, 5.0), _CARD_LOAD_FRICTION, "peak_mu_vs_fz",
+               pac89=("a1",), pac89_note="PAC89 a1 (D = a1 Fz^2 + a2 Fz): written to the .tir."),
+        Effect("curvature_load", "curvature_load", "curvature changing with load", (_A6,),
+               "sweeps beyond the peak (|slip| >= 6 deg) at >= 2 load levels", _loads(2, 6.0), _CARD_CURVATURE,
+               "slip_at_peak_vs_fz", pac89=("a6",), pac89_note="PAC89 a6 (E = a6 Fz + a7): written to the .tir."),
+        Effect("overload", "overload", "grip falling above the rated load", (_OV_MU,),
+               "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,
+               _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload, pac89_approx=("a1",),
+               pac89_note=_NOT_PAC89_OVERLOAD, requires_rated_load=True),
+        Effect("overload_stiffness", "overload", "grip and cornering stiffness falling above the rated load",
+               (_OV_MU, _OV_KY), "loads above the rated load and >= 2 levels at or below it; --rated-load",
+               _overload, _CARD_OVERLOAD, "stiffness_vs_fz", apply=_apply_overload_stiffness,
+               pac89_approx=("a1",), pac89_note=_NOT_PAC89_OVERLOAD + " The stiffness fall is absorbed by a4 at "
+               "best (BCD = a3 sin(2 atan(Fz/a4)) peaks at Fz = a4).", requires_rated_load=True),
+        Effect("camber", "camber", "camber thrust, shift and stiffness loss", (_A5, _A8, _A11),
+               ">= 3 camber levels", _cambers(3), _CARD_CAMBER, "fy0_vs_camber",
+               pac89=("a5", "a8", "a11"), pac89_note="PAC89 a5, a8, a11: written to the .tir."),
+        Effect("camber_thrust", "camber", "camber thrust and shift", (_A8, _A11),
+               ">= 2 camber levels", _cambers(2), _CARD_CAMBER, "fy0_vs_camber",
+               pac89=("a8", "a11"), pac89_note="PAC89 a8, a11: written to the .tir."),
+        Effect("offsets", "offsets", "ply steer and conicity shifts, load dependent", (_A9, _A10, _A12, _A13),
+               "sweeps through zero in both slip directions at >= 2 load levels", _both_signs(2), _CARD_OFFSETS,
+               "fy0_vs_fz", pac89=("a9", "a10", "a12", "a13"),
+               pac89_note="PAC89 a9, a10, a12, a13: written to the .tir (they flip sign for the other tyre side)."),
+        Effect("offsets_constant", "offsets", "constant ply steer and conicity shifts", (_A10, _A13),
+               "sweeps through zero in both slip directions", _both_signs(1), _CARD_OFFSETS, "fy0_vs_fz",
+               pac89=("a10", "a13"),
+               pac89_note="PAC89 a10, a13: written to the .tir (they flip sign for the other tyre side)."),
+        Effect("pressure", "pressure", "inflation pressure on cornering stiffness and grip", (_P_KY, _P_MU),
+               ">= 2 inflation pressures", _levels("pressure_levels", "pressure"), _CARD_PRESSURE,
+               "stiffness_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE),
+        Effect("pressure_stiffness", "pressure", "inflation pressure on cornering stiffness", (_P_KY,),
+               ">= 2 inflation pressures", _levels("pressure_levels", "pressure"), _CARD_PRESSURE,
+               "stiffness_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE),
+        Effect("pressure_grip", "pressure", "inflation pressure on grip", (_P_MU,),
+               ">= 2 inflation pressures", _levels("pressure_levels", "pressure"), _CARD_PRESSURE,
+               "peak_mu_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE),
+        Effect("speed", "speed", "travel speed on grip and cornering stiffness", (_S_MU, _S_KY),
+               ">= 2 speeds", _levels("speed_levels", "speed"), _CARD_SPEED, "peak_mu_vs_speed",
+               apply=_apply_speed, pac89_note=_NOT_PAC89_SPEED),
+    ]
+
+
+#: effect id -> Effect
+EFFECTS: dict[str, Effect] = {e.id: e for e in _effects()}
+#: family -> effect ids (catalogue order)
+FAMILIES: dict[str, list[str]] = {}
+for _e in EFFECTS.values():
+    assert _e.id.startswith(_e.family), _e.id
+    FAMILIES.setdefault(_e.family, []).append(_e.id)
+
+
+def get_effect(effect_id: str) -> Effect:
+    """The catalogue entry ``effect_id``; :class:`DataError` naming the known ids otherwise."""
+    try:
+        return EFFECTS[effect_id]
+    except KeyError:
+        raise DataError(f"unknown effect {effect_id!r}; known effects: {', '.join(EFFECTS)}"
+                        + close_matches(effect_id, EFFECTS)) from None
+
+
+def parse_effects(text: str | Iterable[str] | None) -> list[str]:
+    """``"camber,pressure"`` (or a list) -> validated list of effect ids, duplicates removed."""
+    if text is None:
+        return []
+    items = text.split(",") if isinstance(text, str) else list(text)
+    out: list[str] = []
+    for it in items:
+        it = it.strip()
+        if it and it not in out:
+            get_effect(it)
+            out.append(it)
+    return out
+
+
+def resolve_pac89(ids: Iterable[str]) -> tuple[list[str], list[str]]:
+    """PAC89 coefficients to vary for the start model plus ``ids``, and notes.
+
+    Parameters
+    ----------
+    ids : iterable of str
+        Effect ids (see :data:`EFFECTS`).
+
+    Returns
+    -------
+    vary : list of str
+        ``a0, a2, a3, a4, a7`` plus each effect's PAC89 coefficients (and, for
+        effects PAC89 cannot represent exactly, the coefficients that absorb
+        part of them, e.g. ``a1`` for ``overload``), in PAC89 order.
+    notes : list of str
+        One line per effect that PAC89 cannot represent exactly, saying what
+        to do instead.
+
+    Examples
+    --------
+    >>> resolve_pac89(["camber", "pressure"])[0]
+    ['a0', 'a2', 'a3', 'a4', 'a5', 'a7', 'a8', 'a11']
+    """
+    vary = set(BASE_NAMES)
+    notes: list[str] = []
+    for eid in parse_effects(list(ids)):
+        e = EFFECTS[eid]
+        vary.update(e.pac89)
+        vary.update(e.pac89_approx)
+        if not e.representable:
+            notes.append(f"{eid}: {e.pac89_note}")
+    order = [f"a{i}" for i in range(14)]
+    return [a for a in order if a in vary], notes
