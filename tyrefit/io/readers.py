@@ -549,7 +549,7 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
         df["phase"] = load_phase(df["vertical_displacement"].to_numpy(), df["run"].to_numpy())
         meta["phase"] = "derived from the sign of the displacement increments (+1 load, -1 unload)"
     # plausibility --------------------------------------------------------
-    _check_ranges(df, kind, p, t.headers)
+    _check_ranges(df, kind, p, t.headers, t.units)
     df = df.reset_index(drop=True)
     order = ["run"] + [c for c in df.columns if c != "run"]
     df = df[order]
@@ -558,7 +558,8 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     return Dataset(df=df, kind=kind, source=str(p), convention=convention, meta=meta)
 
 
-def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str]) -> None:
+def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str],
+                  units: dict[str, str | None] | None = None) -> None:
     for c, (lo, hi, lo_incl, unit) in LIMITS.items():
         if c not in df or not _numeric(df[c]):
             continue
@@ -583,7 +584,15 @@ def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str])
             acc = f"0 < {c} <= {_fmt(hi, unit)}"
             what = "out of range"
         disp = unit if unit != "kN" else "N"
-        raise ValueRangeError(f"{p}: line {df.index[i]}, column '{h}': {what}, {_fmt(v[i], disp)}; accepted "
+        shown = _fmt(v[i], disp)
+        u_file = (units or {}).get(c)
+        if u_file and u_file not in (disp, "-"):
+            try:
+                conv = nm.from_si(v[i], disp) if disp != "-" else v[i]
+                shown = f"{nm.from_si(v[i], u_file):.6g} {u_file} = {conv:{'.6g' if disp == 'N' else '.4g'}} {disp}"
+            except UnitError:
+                pass
+        raise ValueRangeError(f"{p}: line {df.index[i]}, column '{h}': {what}, {shown}; accepted "
                               f"{acc} ({int(bad.sum())} value{'s' if bad.sum() > 1 else ''} outside)")
 
 
