@@ -29,6 +29,11 @@ __all__ = ["PropertyFile", "read_property_file", "read_tir", "read_tyre", "write
 
 _SECTION = re.compile(r"^\[\s*([A-Za-z0-9_]+)\s*\]")
 _KEYVAL = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(.*)$")
+#: section rulers such as ``$-----------units`` or ``!=====``: layout, not comments
+_SEPARATOR = re.compile(r"^[$!]\s*[-=_]{4,}\s*[A-Za-z_ ]*$")
+#: characters str.splitlines() breaks lines at, and other control characters (NUL marks a binary file)
+_LINE_BREAKS = re.compile("[\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029]+")
+_CONTROL = re.compile("[\x00-\x08\x0e-\x1f\x7f]")
 
 _LENGTH = {"meter": 1.0, "meters": 1.0, "m": 1.0, "metre": 1.0, "mm": 1e-3, "millimeter": 1e-3,
            "millimetre": 1e-3, "cm": 1e-2, "inch": 0.0254, "in": 0.0254, "ft": 0.3048, "foot": 0.3048}
@@ -105,9 +110,11 @@ def _value(text: str):
         return text[1:-1]
     try:
         if re.fullmatch(r"[+-]?\d+", text):
-            return int(text)
+            v = int(text)
+            float(v)  # an integer beyond float range is not a usable number: keep the text
+            return v
         return float(text.replace("D", "E").replace("d", "e"))
-    except ValueError:
+    except (ValueError, OverflowError):
         return text
 
 
@@ -140,7 +147,7 @@ def read_property_file(path: str | os.PathLike) -> PropertyFile:
         if not s:
             continue
         if s[0] in "$!":
-            if s[0] == "!" or not set(s[1:]) <= set("-=_ "):
+            if not _SEPARATOR.match(s):
                 pf.comments.append(s[1:].strip())
             continue
         m = _SECTION.match(s)
@@ -187,8 +194,8 @@ def read_tir(path: str | os.PathLike) -> Pac89Tyre:
         v = pf.get(name)
         if v is None:
             continue
-        if not isinstance(v, (int, float)):
-            raise FormatError(f"{path}: coefficient {name} = {v!r} is not a number")
+        if not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise FormatError(f"{path}: coefficient {name} = {str(v)[:40]!r} is not a finite number")
         coeffs[name] = float(v)
     if not any(k in coeffs for k in pac89.LATERAL):
         raise FormatError(f"{path}: no lateral coefficients a0..a13 found")
@@ -232,6 +239,16 @@ def _f(v: float) -> str:
     return repr(float(v))
 
 
+def _fc(v: float) -> str:
+    """A value converted from SI to file units (mm, deg, N/mm), to 15 significant digits.
+
+    The conversion back on reading (x 1e-3, x pi/180) is within a few ulp of the
+    inverse, so 15 digits make write -> read -> write give the same text and
+    read -> write -> read the same floats.
+    """
+    return repr(float(f"{float(v):.15g}"))
+
+
 def _line(key: str, value: str, comment: str = "") -> str:
     s = f"{key:<21}= {value}"
     return f"{s:<40}$ {comment}" if comment else s
@@ -243,29 +260,30 @@ def format_tir(tyre: Pac89Tyre) -> str:
     out = [bar + "info"]
     for h in tyre.header or ["PAC89 tyre written by tyrefit"]:
         for part in str(h).splitlines() or [""]:
-            out.append(f"! {part}")
+            out.append(f"! {_CONTROL.sub('?', part)}")
+    name = _CONTROL.sub("?", _LINE_BREAKS.sub(" ", str(tyre.name)))  # a line break would end the quoted value
     out += [bar + "units", "[MDI_HEADER]", "FILE_TYPE     = 'tir'", "FILE_VERSION  = 2.0",
             "FILE_FORMAT   = 'ASCII'", "[UNITS]", "LENGTH        = 'mm'", "FORCE         = 'newton'",
             "ANGLE         = 'degrees'", "MASS          = 'kg'", "TIME          = 'sec'",
             bar + "model", "[MODEL]", _line("PROPERTY_FILE_FORMAT", "'PAC89'"),
-            _line("TYRESIDE", f"'{tyre.tyreside}'"), _line("NAME", f"'{tyre.name}'")]
+            _line("TYRESIDE", f"'{tyre.tyreside}'"), _line("NAME", f"'{name}'")]
     dims = []
     if tyre.unloaded_radius is not None:
-        dims.append(_line("UNLOADED_RADIUS", _f(tyre.unloaded_radius * 1e3), "mm"))
+        dims.append(_line("UNLOADED_RADIUS", _fc(tyre.unloaded_radius * 1e3), "mm"))
     if tyre.width is not None:
-        dims.append(_line("WIDTH", _f(tyre.width * 1e3), "mm"))
+        dims.append(_line("WIDTH", _fc(tyre.width * 1e3), "mm"))
     if dims:
         out += [bar + "dimension", "[DIMENSION]"] + dims
     vert = []
     if tyre.fnomin is not None:
         vert.append(_line("FNOMIN", _f(tyre.fnomin), "N, nominal (rated) load"))
     if tyre.vertical_stiffness is not None:
-        vert.append(_line("VERTICAL_STIFFNESS", _f(tyre.vertical_stiffness * 1e-3), "N/mm"))
+        vert.append(_line("VERTICAL_STIFFNESS", _fc(tyre.vertical_stiffness * 1e-3), "N/mm"))
     if vert:
         out += [bar + "vertical", "[VERTICAL]"] + vert
     out += [bar + "parameter", "[PARAMETER]"]
     if tyre.lateral_stiffness is not None:
-        out.append(_line("LATERAL_STIFFNESS", _f(tyre.lateral_stiffness * 1e-3), "N/mm"))
+        out.append(_line("LATERAL_STIFFNESS", _fc(tyre.lateral_stiffness * 1e-3), "N/mm"))
     out.append(_line("ROLLING_RESISTANCE", _f(tyre.rolling_resistance)))
     rng = tyre.ranges
     deg = 180.0 / math.pi
@@ -275,8 +293,8 @@ def format_tir(tyre: Pac89Tyre) -> str:
                                         ("slip_ratio", "LONG_SLIP_RANGE", "KPUMIN", "KPUMAX", 1.0, "-")):
         if key in rng:
             a, b = rng[key]
-            out += [bar + sec.lower(), f"[{sec}]", _line(lo, _f(a * fac), f"{unit}, fitted range"),
-                    _line(hi, _f(b * fac), f"{unit}, fitted range")]
+            out += [bar + sec.lower(), f"[{sec}]", _line(lo, _fc(a * fac), f"{unit}, fitted range"),
+                    _line(hi, _fc(b * fac), f"{unit}, fitted range")]
     for sec, names in (("LATERAL_COEFFICIENTS", pac89.LATERAL), ("LONGITUDINAL_COEFFICIENTS", pac89.LONGITUDINAL),
                        ("ALIGNING_COEFFICIENTS", pac89.ALIGNING)):
         out += [bar + sec.split("_")[0].lower(), f"[{sec}]"]

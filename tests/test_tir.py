@@ -1,0 +1,150 @@
+"""Tyre property files: PAC89 read/write exactness, MF 5.x / PAC2002 / MF 6.x reading."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from tyrefit.errors import FormatError, ModelError, OutputExistsError
+from tyrefit.io.tir import format_tir, read_property_file, read_tir, read_tyre, write_tir
+from tyrefit.models import pac89
+from tyrefit.tyre import Pac89Tyre
+
+DATA = Path(__file__).parent / "data"
+EXAMPLE = DATA / "ref_adams_pac89_example.tir"
+
+
+def test_reads_reference_pac89():
+    t = read_tir(EXAMPLE)
+    c = t.coefficients
+    assert (c["a0"], c["a3"], c["a13"]) == (1.65, 3036.0, 6.26206)
+    assert (c["b0"], c["b10"], c["c17"]) == (1.67272, -0.176, -3.336941)
+    assert t.unloaded_radius == pytest.approx(0.326)
+    assert t.width == pytest.approx(0.245)
+    assert t.lateral_stiffness == pytest.approx(190e3)
+    assert t.tyreside == "LEFT"
+    assert len([k for k in pac89.ALL if k in c]) == 43
+
+
+def test_reference_read_write_read_exact(tmp_path):
+    ta = read_tir(EXAMPLE)
+    tb = read_tir(write_tir(ta, tmp_path / "b.tir"))
+    assert tb == ta
+    assert tb.coefficients == ta.coefficients
+
+
+def test_write_read_write_read_exact(tmp_path):
+    t1 = read_tir(EXAMPLE)
+    t1.ranges = {"fz": (2013.7, 8000.1), "slip_angle": (-0.2094395102, 0.21), "camber": (-0.07, 0.0698),
+                 "slip_ratio": (-0.3, 0.3)}
+    t1.fnomin = 4000.0
+    t1.vertical_stiffness = 209651.123456789
+    t1.lateral_stiffness = 1.0 / 3.0 * 1e6
+    t1.header = ["first line", "second: with = and $ signs"]
+    p1 = write_tir(t1, tmp_path / "one.tir")
+    t2 = read_tir(p1)
+    p2 = write_tir(t2, tmp_path / "two.tir")
+    t3 = read_tir(p2)
+    assert p1.read_text() == p2.read_text()  # the file is a fixed point after one write
+    assert t3 == t2  # read -> write -> read is exact
+    assert t3.coefficients == t1.coefficients  # coefficients are written with repr: exact from the start
+    assert t3.header == t1.header  # section rulers are layout, not header lines
+    for k, (lo, hi) in t1.ranges.items():  # SI values converted to mm / deg: 15 significant digits
+        assert t2.ranges[k] == pytest.approx((lo, hi), rel=1e-14)
+    assert t2.vertical_stiffness == pytest.approx(t1.vertical_stiffness, rel=1e-14)
+
+
+@settings(max_examples=60, deadline=None)
+@given(values=st.lists(st.floats(allow_nan=False, allow_infinity=False, width=64, min_value=-1e12, max_value=1e12),
+                       min_size=43, max_size=43))
+def test_any_coefficients_round_trip_exactly(values, tmp_path_factory):
+    t = Pac89Tyre(coefficients=dict(zip(pac89.ALL, values)), unloaded_radius=0.3135, width=0.205)
+    d = tmp_path_factory.mktemp("rt")
+    back = read_tir(write_tir(t, d / "x.tir", check=False))
+    assert back.coefficients == t.coefficients
+
+
+def test_write_refuses_existing_and_unphysical(tmp_path):
+    t = read_tir(EXAMPLE)
+    p = write_tir(t, tmp_path / "a.tir")
+    with pytest.raises(OutputExistsError):
+        write_tir(t, p)
+    write_tir(t, p, force=True)
+    bad = Pac89Tyre(coefficients=dict(t.coefficients, a7=1.5), ranges={"fz": (2000.0, 8000.0)})
+    with pytest.raises(ModelError, match="E > 1"):
+        write_tir(bad, tmp_path / "bad.tir")
+    assert not (tmp_path / "bad.tir").exists()
+
+
+def test_crlf_and_case_insensitive(tmp_path):
+    text = EXAMPLE.read_text().replace("a3  = 3036.0", "A3  = 3036.0").replace("\n", "\r\n")
+    p = tmp_path / "crlf.tir"
+    p.write_bytes(text.encode())
+    assert read_tir(p).coefficients == read_tir(EXAMPLE).coefficients
+
+
+@pytest.mark.parametrize("name", ["ref_HMMWV_Pac02Tire.tir", "ref_Generic_Pac02Tire.tir"])
+def test_reads_pac2002_files(name):
+    pf = read_property_file(DATA / name)
+    assert pf.format == "PAC2002"
+    for sec in ("UNITS", "MODEL", "DIMENSION", "VERTICAL", "LATERAL_COEFFICIENTS", "LONGITUDINAL_COEFFICIENTS",
+                "ALIGNING_COEFFICIENTS", "SCALING_COEFFICIENTS"):
+        assert sec in pf.sections
+    assert pf.get("FNOMIN") == 35000
+    assert pf.get("PCY1", section="LATERAL_COEFFICIENTS") == pytest.approx(1.5874)
+    assert pf.unit_factor("LENGTH") == 1.0 and pf.unit_factor("ANGLE") == 1.0
+    assert pf.n_parameters > 150
+    with pytest.raises(FormatError, match="PAC89 file is needed"):
+        read_tir(DATA / name)
+
+
+def test_hmmwv_pac02_is_crlf():
+    raw = (DATA / "ref_HMMWV_Pac02Tire.tir").read_bytes()
+    assert b"\r\n" in raw
+
+
+def test_reads_mf61_style_with_curve_table_and_vendor_section():
+    pf = read_property_file(DATA / "mf61_small.tir")
+    assert pf.format == "MF61"
+    assert pf.tables["DEFLECTION_LOAD_CURVE"]["columns"] == ["pen", "fz"]
+    assert pf.tables["DEFLECTION_LOAD_CURVE"]["rows"][-1] == [0.02, 4400.0]
+    assert pf.get("TEST_RIG", section="VENDOR_SPECIFIC") == "flat track"
+    assert pf.get("SERIAL") == "ABC-123"
+    assert pf.get("PDY1") == 1.0  # Fortran D exponent
+    assert pf.get("PKY1") == -15.3
+    assert pf.unit_factor("ANGLE") == 1.0
+    assert any("MF-Tyre 6.1" in c for c in pf.comments)
+
+
+def test_mf61_crlf_same_as_lf(tmp_path):
+    p = tmp_path / "crlf.tir"
+    p.write_bytes((DATA / "mf61_small.tir").read_bytes().replace(b"\n", b"\r\n"))
+    a, b = read_property_file(DATA / "mf61_small.tir"), read_property_file(p)
+    assert a.sections == b.sections and a.tables == b.tables
+
+
+@pytest.mark.parametrize("content,match", [(b"", "empty"), (b"\x00\x01\x02binary", "binary"),
+                                           (b"A = 1\n", "before any"), (b"$ only a comment\n", "no \\[SECTION\\]")])
+def test_bad_files(tmp_path, content, match):
+    p = tmp_path / "bad.tir"
+    p.write_bytes(content)
+    with pytest.raises(FormatError, match=match):
+        read_property_file(p)
+
+
+def test_read_tyre_dispatches_on_suffix():
+    assert read_tyre(EXAMPLE).coefficients["a0"] == 1.65
+    assert read_tyre(DATA / "ref_HMMWV_Pac89Tire.json").coefficients["a0"] == pytest.approx(1.49975356208205)
+
+
+def test_format_writes_ranges_in_file_units():
+    t = Pac89Tyre(coefficients={"a0": 1.3}, ranges={"slip_angle": (-math.radians(12), math.radians(12)),
+                                                     "fz": (1000.0, 5000.0)})
+    text = format_tir(t)
+    assert "ALPMAX               = 12.0" in text
+    assert "FZMIN                = 1000.0" in text
+    assert "PROPERTY_FILE_FORMAT = 'PAC89'" in text
+    assert np.isclose(float(text.split("ALPMIN")[1].split("=")[1].split()[0]), -12.0)
