@@ -10,6 +10,7 @@ stripped before parsing.
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 from pathlib import Path
@@ -43,6 +44,17 @@ def _strip_comments(text: str) -> str:
     return re.sub(r",(\s*[}\]])", r"\1", text)  # trailing commas
 
 
+def _finite(v, p: Path, what: str) -> float:
+    """``float(v)``, or FormatError unless ``v`` is a finite number."""
+    try:
+        x = float(v)
+    except (TypeError, ValueError, OverflowError):
+        x = math.nan
+    if isinstance(v, bool) or not math.isfinite(x):
+        raise FormatError(f"{p}: {what} = {str(v)[:40]!r} is not a finite number")
+    return x
+
+
 def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
     """Read Chrono's PAC89 JSON into a :class:`Pac89Tyre`."""
     p = Path(path)
@@ -65,17 +77,20 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
         for k, v in block.items():
             k = str(k).lower()
             if k in names:
-                try:
-                    coeffs[k] = float(v)
-                except (TypeError, ValueError):
-                    raise FormatError(f"{p}: {sec} {k} = {v!r} is not a number") from None
+                coeffs[k] = _finite(v, p, f"{sec} {k}")
     d = doc.get("Design Parameters", {}) or {}
+    if not isinstance(d, dict):
+        raise FormatError(f"{p}: 'Design Parameters' must be an object of named values")
 
     def num(key):
         v = d.get(key)
-        return float(v) if isinstance(v, (int, float)) else None
+        return _finite(v, p, f"Design Parameters {key}") if isinstance(v, (int, float)) else None
 
     curve = d.get("Vertical Curve Data")
+    if curve:
+        if not isinstance(curve, list) or not all(isinstance(r, list) and len(r) == 2 for r in curve):
+            raise FormatError(f"{p}: 'Vertical Curve Data' must be a list of [deflection (m), force (N)] pairs")
+        curve = [(_finite(a, p, "Vertical Curve Data"), _finite(b, p, "Vertical Curve Data")) for a, b in curve]
     return Pac89Tyre(
         coefficients=coeffs,
         unloaded_radius=num("Unloaded Radius"),
@@ -83,7 +98,7 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
         lateral_stiffness=num("Lateral Stiffness"),
         vertical_stiffness=num("Vertical Stiffness"),
         rolling_resistance=num("Rolling Resistance") or 0.0,
-        vertical_curve=[(float(a), float(b)) for a, b in curve] if curve else None,
+        vertical_curve=curve or None,
         name=str(doc.get("Name", p.stem)),
     )
 
