@@ -149,3 +149,26 @@ def test_thousands_of_points_per_sweep_are_cut_quickly():
     assert meta["n_sweeps"] == len(truth)
     assert out.groupby("run").size().min() > 1400
     assert elapsed < 10.0, elapsed  # vectorised: well under a second on an idle core
+
+
+def test_drive_brake_record_is_a_slip_ratio_test(tmp_path):
+    """TTC drive/brake layout: SA held at 0, -3, -6 deg (SAE) while SL is swept; FX follows SL."""
+    lines = ["synthetic drive/brake run", "ET\tV\tSA\tIA\tP\tFX\tFY\tFZ\tSL", "s\tkph\tdeg\tdeg\tkPa\tN\tN\tN\tnone"]
+    t = 0.0
+    sl = np.r_[np.linspace(0, 0.15, 60), np.linspace(0.15, -0.15, 120), np.linspace(-0.15, 0, 60)]
+    for sa in (0.0, -3.0, -6.0):
+        for k in range(40):  # ramp the slip angle with the slip ratio at zero
+            lines.append(f"{t:.2f}\t40\t{sa * k / 39:.3f}\t0\t83\t0\t{300 * sa * k / 39:.1f}\t-1000\t0")
+            t += 0.05
+        for x in sl:
+            lines.append(f"{t:.2f}\t40\t{sa:.3f}\t0\t83\t{2400 * np.sin(1.6 * np.arctan(12 * x)):.1f}\t{300 * sa:.1f}"
+                         f"\t-1000\t{x:.4f}")
+            t += 0.05
+    p = tmp_path / "db.dat"
+    p.write_text("\n".join(lines) + "\n")
+    ds = read_data(p, convention="sae")
+    assert ds.kind == "slip_ratio" and ds.n_runs == 3
+    assert sorted(round(s["fz"]) for s in ds.meta["segmentation"]["sweeps"]) == [1000] * 3
+    assert ds.meta["segmentation"]["tolerances"]["slip_angle_deg"] == 0.5
+    sa_levels = sorted(round(np.degrees(g["slip_angle"].mean())) for _, g in ds.df.groupby("run"))
+    assert sa_levels == [0, 3, 6]  # SAE slip angle negated into ISO-W

@@ -252,7 +252,7 @@ def _looks_ttc(head: str) -> bool:
         return False
     names, units = lines[1].split("\t"), lines[2].split("\t")
     upper = {n.strip().upper() for n in names}
-    return len(names) >= 3 and len(names) == len(units) and {"SA", "FY", "FZ"} <= upper | {"SA"} and "FZ" in upper
+    return len(names) >= 3 and len(names) == len(units) and "FZ" in upper and bool({"SA", "SL"} & upper)
 
 
 # --------------------------------------------------------------------------- public reader
@@ -462,6 +462,40 @@ def detect_kind(columns) -> str | None:
     return None
 
 
+def _spread(x: np.ndarray) -> float:
+    """Share of 50 equal bins over the range of ``x`` that hold at least 1 % of the samples.
+
+    Near 1 for a swept variable (it passes through its whole range), small
+    for a set point that sits at a few levels.
+    """
+    x = x[np.isfinite(x)]
+    if x.size < 10 or np.ptp(x) == 0:
+        return 0.0
+    counts, _ = np.histogram(x, bins=50)
+    return float(np.mean(counts >= 0.01 * x.size))
+
+
+def _sweep_kind(t: "RawTable") -> str:
+    """Slip-angle or slip-ratio test, for files that hold both channels (TTC, combined slip).
+
+    A slip-ratio test when the slip ratio spans more than 0.05 and is more
+    evenly swept (:func:`_spread`) than the slip angle, which then sits at
+    set-point levels (FSAE TTC drive/brake runs: SA at 0, -3, -6 deg).
+    """
+    sa, sr = t.values["slip_angle"], t.values["slip_ratio"]
+    if sa.dtype == object or sr.dtype == object or not sa.size:
+        return "slip_angle"
+    sa = np.asarray(nm.to_si(sa.astype(float), t.units["slip_angle"] or "rad"))
+    sr = np.asarray(nm.to_si(sr.astype(float), t.units["slip_ratio"] or "-"))
+    span_sa = float(np.ptp(sa[np.isfinite(sa)])) if np.isfinite(sa).any() else 0.0
+    span_sr = float(np.ptp(sr[np.isfinite(sr)])) if np.isfinite(sr).any() else 0.0
+    if span_sr > 0.05 and _spread(sr) >= _spread(sa):
+        return "slip_ratio"
+    if span_sa < 1 * _DEG and span_sr > 0.02:
+        return "slip_ratio"
+    return "slip_angle"
+
+
 def _missing(kind: str, cols) -> list[str]:
     return [" or ".join(alts) for alts in REQUIRED[kind] if not any(a in cols for a in alts)]
 
@@ -472,11 +506,7 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     if kind is None:
         kind = detect_kind(cols)
         if kind == "slip_angle" and "slip_ratio" in cols and "fx" in cols:
-            sa, sr = t.values["slip_angle"], t.values["slip_ratio"]
-            sa_span = np.ptp(nm.to_si(sa, t.units["slip_angle"] or "rad")) if sa.dtype != object and sa.size else 0
-            sr_span = np.ptp(nm.to_si(sr, t.units["slip_ratio"] or "-")) if sr.dtype != object and sr.size else 0
-            if sa_span < 1 * _DEG and sr_span > 0.02:
-                kind = "slip_ratio"
+            kind = _sweep_kind(t)
         if kind is None:
             found = ", ".join(f"'{t.headers[c]}'" for c in t.values) or "none"
             raise ColumnError(f"{p}: cannot tell what test this is from its columns ({found}); needed: "
