@@ -5,8 +5,8 @@
 must return or raise a :class:`~tyrefit.errors.TyrefitError`, nothing else.
 Generated PAC89 parameter sets must survive ``write_tir -> read_tir`` and
 ``write_chrono_json -> read_chrono_json`` exactly (coefficients bit for bit;
-values the ``.tir`` stores in mm, N/mm or degrees to within the rounding of
-that one unit conversion).  Example counts come from the hypothesis profile
+values the ``.tir`` converts to mm, N/mm or degrees to the 15 significant
+digits it writes them with).  Example counts come from the hypothesis profile
 (tests/conftest.py, 'ci': 200 per test).
 """
 
@@ -173,7 +173,8 @@ def tyres(draw) -> Pac89Tyre:
                      header=draw(st.lists(st.text(max_size=40), max_size=3)))
 
 
-def _close(a, b, rel=4e-16 * 4):
+def _close(a, b, rel=1e-14):
+    """Equal to the 15 significant digits the .tir keeps for values it converts (mm, N/mm, deg)."""
     if a is None or b is None:
         return a is b
     return a == b or math.isclose(a, b, rel_tol=rel, abs_tol=0.0)
