@@ -1,0 +1,94 @@
+"""``tyrefit compare A.tir B.tir [--data DATA] [--report DIR] [--json OUT.json]``.
+
+Compares two tyre files (PAC89 ``.tir`` or Chrono PAC89 JSON) load by load --
+cornering stiffness, peak friction coefficient, slip angle at the peak, mean
+|dmu|/mu_peak over 0-12 deg -- and, with ``--data``, each against measured
+slip-angle sweeps (:func:`tyrefit.compare.compare_tyres`).  JSON keys as in
+``shared/DESIGN.md``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from ..errors import DataError
+from ..io.outputs import check_output, write_text
+
+__all__ = ["run"]
+
+
+def _json_default(o):
+    if hasattr(o, "item"):
+        return o.item()
+    if isinstance(o, float) and not math.isfinite(o):
+        return None
+    return str(o)
+
+
+def _clean(o):
+    """Replace NaN/inf by None (strict JSON)."""
+    if isinstance(o, float):
+        return o if math.isfinite(o) else None
+    if isinstance(o, dict):
+        return {k: _clean(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_clean(v) for v in o]
+    if hasattr(o, "item"):
+        return _clean(o.item())
+    return o
+
+
+def run(args) -> int:
+    """Entry point of ``tyrefit compare``."""
+    from ..compare import compare_tyres
+    from ..io.tir import read_tyre
+
+    if not args.json and not args.report:
+        raise DataError("compare: give --json OUT.json and/or --report DIR (nothing would be written)")
+    if args.json:
+        check_output(args.json, args.force)
+    if args.report:
+        check_output(Path(args.report) / "index.html", args.force)
+    ta = read_tyre(args.tyre_a)
+    tb = read_tyre(args.tyre_b)
+    data = None
+    if args.data:
+        from ..io.readers import read_data
+
+        data = read_data(args.data, convention=args.convention or "iso")
+    na, nb = Path(args.tyre_a).stem, Path(args.tyre_b).stem
+    if na == nb:
+        na, nb = str(args.tyre_a), str(args.tyre_b)
+    cmp = compare_tyres(ta, tb, data, names=(na, nb))
+    doc = _clean(cmp.to_json())
+    doc["files"] = [str(args.tyre_a), str(args.tyre_b)]
+    if args.json:
+        write_text(args.json, json.dumps(doc, indent=2, default=_json_default, allow_nan=False) + "\n",
+                   force=args.force)
+    if args.report:
+        from ..report import Report
+
+        r = Report(f"tyrefit compare: {na} vs {nb}",
+                   f"tyrefit compare {args.tyre_a} {args.tyre_b}" + (f" --data {args.data}" if args.data else ""))
+        cmp.report_section(r, title="Load by load")
+        r.json_block(doc, "JSON")
+        r.save(args.report, force=args.force)
+    s = cmp.summary()
+    print(f"{na} vs {nb}: {len(cmp.loads)} loads; worst mean |dmu|/mu_peak {100 * s['worst_mean_abs_dmu_over_peak']:.2f} % "
+          f"(agreement >= {s['min_agreement_pct']:.1f} %)")
+    for lc in cmp.loads:
+        line = (f"  Fz {lc.fz:8.0f} N: C_alpha {lc.cornering_stiffness[0]:.4g} / {lc.cornering_stiffness[1]:.4g} N/rad, "
+                f"peak mu {lc.peak_mu[0]:.3f} / {lc.peak_mu[1]:.3f}, mean |dmu|/mu_peak {100 * lc.mean_abs_dmu_over_peak:.2f} %")
+        if lc.data is not None:
+            v = lc.data["mean_abs_dmu_over_peak_vs_data"]
+            line += f"; vs data {100 * v[0]:.2f} % / {100 * v[1]:.2f} %"
+        print(line)
+    for n in cmp.notes:
+        print(f"  note: {n}")
+    if args.json:
+        print(f"wrote {args.json}")
+    if args.report:
+        print(f"wrote {Path(args.report) / 'index.html'}")
+    return 0
