@@ -179,8 +179,14 @@ def format_summary(s: dict[str, Any]) -> str:
                  f"{conv_txt}")
     seg = s.get("segmentation")
     total = f" (of {seg['n_samples']} samples)" if seg else ""
-    lines.append(f"rows {s['rows']}{total}, sweeps {s['sweeps']} (runs {s.get('runs')})")
+    lines.append(f"rows {s['rows']}{total}, sweeps {s['sweeps']}; runs {s.get('runs')}")
     lines.append("conditions: " + _levels_text(s["conditions"]))
+    if s["data_kind"] in ("patch", "vertical"):
+        for c in ("load", "fz"):
+            if c in s.get("ranges", {}):
+                lo, hi = s["ranges"][c]
+                lines.append(f"{c} swept from {lo / 1e3:.4g} to {hi / 1e3:.4g} kN")
+                break
     cols = []
     for c, info in s["columns"].items():
         h = info.get("header", c)

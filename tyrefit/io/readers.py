@@ -742,12 +742,13 @@ def condition_levels(ds: Dataset) -> dict[str, list[float]]:
     (camber), 5 kPa (pressure), 1 m/s (speed).  Returns ``{"fz": [N],
     "camber": [deg], "pressure": [Pa], "speed": [m/s]}`` with the keys present
     in the data; ``fz`` uses the ``load`` set point where the file gives one
-    (the measured load of a static test falls during the push).
+    (the measured load of a static test falls during the push) and is left
+    out for patch and vertical tests, whose load is the swept variable.
     """
     cond = ds.conditions()
     out: dict[str, list[float]] = {}
     src = "load" if "load" in cond else "fz"
-    if src in cond:
+    if src in cond and ds.kind not in ("patch", "vertical"):  # those sweep the load itself
         out["fz"] = [round(x, 1) for x in _group_levels(cond[src].to_numpy(), *_LEVEL_TOL["fz"])]
     if "camber" in cond:
         out["camber"] = [round(x / _DEG, 3) for x in _group_levels(cond["camber"].to_numpy(), *_LEVEL_TOL["camber"])]
