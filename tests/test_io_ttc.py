@@ -172,3 +172,19 @@ def test_drive_brake_record_is_a_slip_ratio_test(tmp_path):
     assert ds.meta["segmentation"]["tolerances"]["slip_angle_deg"] == 0.5
     sa_levels = sorted(round(np.degrees(g["slip_angle"].mean())) for _, g in ds.df.groupby("run"))
     assert sa_levels == [0, 3, 6]  # SAE slip angle negated into ISO-W
+
+
+def test_logged_csv_record_is_segmented_too(tmp_path, record):
+    """The same record as a CSV with unit headers (no run column, a time column): same 28 sweeps."""
+    df, truth = record
+    sae = df.assign(slip_angle=-np.degrees(df["slip_angle"]), fy=-df["fy"], fz=-df["fz"], mz=-df["mz"],
+                    camber=np.degrees(df["camber"]), pressure=df["pressure"] / 1e3, speed=df["speed"] * 3.6)
+    cols = {"time": "time [s]", "slip_angle": "slip_angle [deg]", "camber": "camber [deg]",
+            "pressure": "pressure [kPa]", "speed": "speed [km/h]", "fx": "fx [N]", "fy": "fy [N]", "fz": "fz [N]",
+            "mz": "mz [N*m]"}
+    p = tmp_path / "log.csv"
+    sae[list(cols)].rename(columns=cols).to_csv(p, index=False, float_format="%.4f")
+    ds = read_data(p, convention="sae")
+    assert ds.meta["runs"].startswith("segmented") and ds.n_runs == len(truth)
+    found = [s["fz"] for s in ds.meta["segmentation"]["sweeps"]]
+    assert found == pytest.approx([t["fz"] for t in truth], rel=0.03)

@@ -11,6 +11,10 @@
 * FSAE TTC ``.dat`` files (:mod:`tyrefit.io.ttc`), whose one continuous
   record is cut into steady-condition sweeps by :mod:`tyrefit.io.segment`.
 
+A slip-angle or slip-ratio CSV without a ``run`` column but with a rising
+``time`` column and at least :data:`CONTINUOUS_MIN_ROWS` rows is a logged
+record, not a table of sweeps: it is segmented like a TTC file.
+
 Whatever the format, the result holds canonical column names
 (:data:`tyrefit.nomenclature.GLOSSARY`), SI units, the ISO-W sign convention
 and an integer ``run`` column (the sweep id).
@@ -557,6 +561,8 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
                               f"{np.nanmedian(df['fz']):.4g} N); tyrefit holds loads positive in compression: if the "
                               "file uses the SAE convention (FZ negative, as FSAE TTC) pass --convention sae")
     # runs ----------------------------------------------------------------
+    if not t.segment and _continuous_record(df, kind):
+        t.segment = True
     if t.segment:
         from .segment import segment_record
 
@@ -586,6 +592,18 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     if df.empty:
         raise DataError(f"{p}: no data rows left to use")
     return Dataset(df=df, kind=kind, source=str(p), convention=convention, meta=meta)
+
+
+#: a CSV without a run column is treated as one continuous record (and segmented) from this many rows on
+CONTINUOUS_MIN_ROWS = 1000
+
+
+def _continuous_record(df: pd.DataFrame, kind: str) -> bool:
+    """A logged record rather than a table of sweeps: slip test, no ``run``, a rising ``time``, many rows."""
+    if kind not in ("slip_angle", "slip_ratio") or "run" in df or "time" not in df or len(df) < CONTINUOUS_MIN_ROWS:
+        return False
+    t = df["time"].to_numpy(float)
+    return bool(np.all(np.diff(t) > 0))
 
 
 def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str],
