@@ -26,7 +26,7 @@ import pandas as pd
 
 from ..errors import FormatError
 from ..io.outputs import check_output, write_text
-from ..io.readers import (KINDS, SAE_FLIPPED, Dataset, condition_levels, lateral_slope, read_data,
+from ..io.readers import (KINDS, Dataset, condition_levels, lateral_slope, read_data,
                           sniff_format)
 
 __all__ = ["run", "inspect_file", "inspect_data", "inspect_tyre", "format_summary"]
