@@ -506,6 +506,13 @@ class _Problem:
         return float(np.sum(r * r)) if self.cost == "l2" else float(np.sum(np.abs(r)))
 
 
+#: coefficients whose value 0 switches their term off (load slopes, camber terms, shifts);
+#: the others (C, D, BCD, E core: a0, a2, a3, a4, a7, ...) have no neutral value
+NEUTRAL = frozenset(["a1", "a5", "a6", "a8", "a9", "a10", "a11", "a12", "a13",
+                     "b1", "b3", "b5", "b6", "b7", "b9", "b10",
+                     "c1", "c3", "c5", "c6", "c7", "c8", "c10", "c11", "c12", "c13", "c14", "c15", "c16", "c17"])
+
+
 # ------------------------------------------------------------------------------ one part
 @dataclass
 class PartFit:
@@ -571,12 +578,13 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
     if held_by_rule:
         notes.append(f"{spec.name}: {', '.join(held_by_rule)} asked to vary but not identifiable from these data; held")
     want = [k for k in want if k not in why and k not in fixed]
-    # values of the coefficients that do not vary: fixed, else neutral 0 for those not identifiable
+    # values of the coefficients that do not vary: fixed, else neutral (0) where a neutral value
+    # exists (load slopes, camber terms, shifts), else the Eq. 2-4 estimate (C, D, BCD, E core)
     for k in spec.names:
         if k in fixed:
             c0[k] = float(fixed[k])
-        elif k in why and k not in initial:
-            c0[k] = 0.0 if k not in ("a4",) else c0[k]
+        elif k not in want and k in NEUTRAL and k not in initial:
+            c0[k] = 0.0
     if spec.name == "lateral" and "a4" in why and "a4" not in fixed and "a4" not in initial:
         # one load: BCD law's curvature held so the cornering coefficient 2 a3/a4 falls gently with load
         c0["a4"] = c_init["a4"]
@@ -633,6 +641,13 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
             nfev_total += n3
             prob, theta, want = p3, th3, want2
             coeffs = prob.coeffs_of(theta)
+    for j, tn in enumerate(prob.theta_names):
+        for bound, side in ((prob.lb[j], "lower"), (prob.ub[j], "upper")):
+            if np.isfinite(bound) and abs(theta[j] - bound) <= 1e-6 * max(1.0, abs(bound)):
+                what = (f"{tn.split('@')[0]} at Fz = {prob.lo if tn.endswith('lo') else prob.hi:.3g} kN"
+                        if "@" in tn else tn)
+                notes.append(f"{spec.name}: {what} ended at its {side} bound {bound:g} (constraint active: the "
+                             "data want a value the physical limits exclude, or the model misses an effect)")
     stderr, correl = _uncertainty(prob, theta)
     bounds = {k: prob._direct_bounds(k) for k in want if k not in {x for s, i, _, _ in prob.pairs for x in (s, i)}}
     constraints = []

@@ -6,8 +6,9 @@ Magic Formula factors directly (Komana et al., section 4.3):
 * peak ``D`` and the slip ``x_m`` where it occurs, and the asymptote ``y_a``
   (the force at the largest slips tested);
 * shape factor ``C = 1 +/- (1 - (2/pi) asin(y_a / D))``  (Eq. 2), with the
-  ``+`` branch when the curve falls after its peak (C > 1) and the ``-``
-  branch when it saturates without falling (C <= 1);
+  ``+`` branch when the curve falls after its peak (y_a < 0.98 D: C > 1) and
+  the ``-`` branch when it saturates without falling (C <= 1; the peak slip
+  is then where the curve first reaches 99.5 % of its plateau);
 * cornering stiffness ``BCD`` from the slope over 0-2 deg (0-2 % slip ratio),
   ``B = BCD / (C D)``  (Eq. 3);
 * curvature ``E = (B x_m - tan(pi / (2 C))) / (B x_m - atan(B x_m))``  (Eq. 4).
@@ -169,7 +170,10 @@ def estimate_sweep(x, mu, *, part: str = "lateral", run: int = 0, fz: float = fl
     srt = np.argsort(z, kind="stable")
     z, v = z[srt], v[srt]
     zmax = float(z[-1]) if len(z) else 0.0
-    vs = _smooth(v, max(3, len(v) // 15))
+    # running mean over ~1/15 of the points, but never wider than 2 % of the slip range
+    dz = float(np.median(np.diff(z))) if len(z) > 1 else 0.0
+    k_span = int(0.02 * zmax / dz) if dz > 0 else len(v)
+    vs = _smooth(v, max(3, min(len(v) // 15, k_span)))
     i_pk = int(np.argmax(vs))
     D, x_m = float(vs[i_pk]), float(z[i_pk])
     tail = z >= 0.9 * zmax
@@ -177,8 +181,11 @@ def estimate_sweep(x, mu, *, part: str = "lateral", run: int = 0, fz: float = fl
     BCD = abs(slope)
     last = z >= 0.85 * zmax
     rising = last.sum() >= 3 and np.ptp(z[last]) > 0 and np.polyfit(z[last], vs[last], 1)[0] > 0.05 * BCD
-    falls = y_a < 0.98 * D and x_m < 0.9 * zmax
-    has_peak = x_m < 0.85 * zmax and not rising
+    falls = bool(y_a < 0.98 * D and x_m < 0.9 * zmax)
+    if not falls and D > 0:
+        # a plateau: the peak slip is where the curve first reaches 99.5 % of its maximum
+        x_m = float(z[np.argmax(vs >= 0.995 * D)])
+    has_peak = bool(x_m < 0.85 * zmax and not rising)
     if has_peak and D > 0:
         # Komana et al., Eq. 2: '+' branch if the curve falls after its peak, '-' if it saturates
         s = 1.0 if falls else -1.0
@@ -192,7 +199,7 @@ def estimate_sweep(x, mu, *, part: str = "lateral", run: int = 0, fz: float = fl
             method = "Eq. 2-4"
         else:
             E = 0.0
-            method = "Eq. 2-3 (C <= 1: Eq. 4 undefined, E = 0)"
+            method = "Eq. 2 '-' branch, Eq. 3 (saturating; C <= 1: Eq. 4 undefined, E = 0)"
         E = float(np.clip(E, _E_MIN, _E_MAX))
     else:
         # documented fallback: no peak inside the tested range
