@@ -81,6 +81,11 @@ class Pac89Tyre:
         return pac89.aligning_moment(self.coefficients, fz, slip_angle, camber)
 
     @property
+    def has_lateral(self) -> bool:
+        c = self.coefficients
+        return c["a0"] != 0.0 and (c["a1"] != 0.0 or c["a2"] != 0.0)
+
+    @property
     def has_longitudinal(self) -> bool:
         c = self.coefficients
         return c["b0"] != 0.0 and (c["b1"] != 0.0 or c["b2"] != 0.0)
@@ -108,13 +113,16 @@ class Pac89Tyre:
         """Raise :class:`ModelError` unless C > 0, D > 0 and E <= 1 over the load range.
 
         The range defaults to the fitted ``ranges['fz']`` or 0.2-2 x FNOMIN.
-        Longitudinal and aligning parts are checked only when present.
+        The lateral part is checked unless the tyre is longitudinal-only; the
+        longitudinal part only when present.
         """
         lo, hi = fz_range or self.ranges.get("fz") or (
             (0.2 * self.fnomin, 2.0 * self.fnomin) if self.fnomin else (1000.0, 10000.0))
         fzk = np.linspace(lo, hi, n) * 1e-3
         c = self.coefficients
-        parts = [("lateral", pac89.lateral_factors(c, fzk, 0.0 * fzk))]
+        parts = []
+        if self.has_lateral or not self.has_longitudinal:
+            parts.append(("lateral", pac89.lateral_factors(c, fzk, 0.0 * fzk)))
         if self.has_longitudinal:
             parts.append(("longitudinal", pac89.longitudinal_factors(c, fzk)))
         for part, f in parts:

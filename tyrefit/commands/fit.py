@@ -95,7 +95,10 @@ def fit_file(args):
         sfi = _static_input(ds, args, notes)
         data = sfi.data
     elif ds.kind in ("slip_angle", "slip_ratio"):
-        check_fittable(ds)
+        if not {"slip_angle", "slip_ratio"} <= set(ds.df.columns):
+            check_fittable(ds)
+        # a file with both slip-angle and slip-ratio sweeps: each sweep is classified and
+        # checked by tyrefit.fitting.prepare_data (combined-slip sweeps are left out, with a note)
         data = ds
     else:
         raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a tyre model; fit needs slip-angle, "
