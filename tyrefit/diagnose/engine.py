@@ -158,14 +158,14 @@ class _Engine:
         for k in range(len(self.folds)):
             test = self.point_fold == k
             train = np.flatnonzero(~test)
-            out = fit(spec, d, idx=train, x0=full.theta)
+            out = fit(spec, d, idx=train, x0=full.theta, tol=1e-7)
             r = spec.predict(out.theta, d.inputs.take(test)) - d.fy[test]
             oof[test] = r
             fold_sse[k] = float(r @ r)
         oofl = np.full(d.n, np.nan)
         for _, test_sweeps in self.lfolds:
             test = np.isin(d.sweep, test_sweeps)
-            out = fit(spec, d, idx=np.flatnonzero(~test), x0=full.theta)
+            out = fit(spec, d, idx=np.flatnonzero(~test), x0=full.theta, tol=1e-7)
             oofl[test] = spec.predict(out.theta, d.inputs.take(test)) - d.fy[test]
         return oof, oofl, fold_sse
 
@@ -322,8 +322,14 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         sig.sort(key=lambda x: -x[2].predicted_dssr)
         confirmed = []
         evaluated = {}
-        for b in range(0, len(sig), s.batch):
-            for e, cspec, _ in sig[b:b + s.batch]:
+        # refit the strongest candidates first: those within a factor 4 of the largest predicted
+        # error reduction (at most `batch`); the rest only if none of these is confirmed
+        top = sig[0][2].predicted_dssr if sig else 0.0
+        first = [c for c in sig[:s.batch] if c[2].predicted_dssr >= 0.25 * top]
+        rest = [c for c in sig if c not in first]
+        batches = [first] + [rest[b:b + s.batch] for b in range(0, len(rest), s.batch)]
+        for batch in batches:
+            for e, cspec, _ in batch:
                 try:
                     st, ev = eng.evaluate(cspec, cur)
                 except FitError as exc:
@@ -356,7 +362,10 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         steps.append(st)
         accepted.append(chosen)
         cands[chosen].status = "accepted"
+        replaced = [m.id for m in cur.spec.effects if m.id not in st.spec.ids]
+        extra = sorted(set(st.spec.names) - set(cur.spec.names))
         cands[chosen].reason = (f"held-out RMSE {cur.rmse_heldout:.1f} -> {st.rmse_heldout:.1f} N"
+                                + (f"; extends {', '.join(replaced)} by {', '.join(extra)}" if replaced else "")
                                 + (f"; family {fam}: variants {', '.join(sorted(ties))} cannot be told apart, "
                                    f"the simplest is added" if len(ties) > 1 else ""))
         for i in ties:

@@ -1,10 +1,12 @@
 """A lean least-squares fitter for PAC89 plus effects (many fast refits).
 
 Diagnosis refits the model hundreds of times (candidates x hold-out folds),
-so this fitter is built for speed: one vectorised call evaluates the model at
-all finite-difference parameter sets at once (coefficients as ``(P+1, 1)``
-columns broadcast against the points), ``scipy.optimize.least_squares`` does
-the rest, and refits start from the previous solution.  The cost is ordinary
+so this fitter is built for speed: the Jacobian is PAC89's analytic one with
+respect to a0..a13 chained with the derivative of the point-wise coefficients
+with respect to the parameters (all parameter steps evaluated at once as
+``(P+1, 1)`` columns broadcast against the points), a box-constrained Levenberg-Marquardt
+on the small normal equations does the rest, and refits start from the
+previous solution.  The cost is ordinary
 least squares on the lateral force in N.
 """
 
@@ -15,7 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..effects import BASE, Effect, ModelInputs, get_effect
+from ..effects import coefficients as _coefficients
 from ..effects import lateral_force as _model
+from ..models import pac89
 from ..errors import FitError
 from .data import SweepData
 
@@ -76,12 +80,36 @@ class ModelSpec:
         """Lateral force [N] (ISO-W) at ``inputs``."""
         return _model(self.values(theta), self.effects, inputs)
 
-    def jacobian(self, theta, inputs: ModelInputs, rel_step: float = 1e-7):
-        """Model value and forward-difference Jacobian in one vectorised evaluation.
+    def _columns(self, x0: np.ndarray, h: np.ndarray) -> dict:
+        """Values with every parameter as a (P+1, 1) column: row 0 at x0, row j+1 stepped in parameter j."""
+        k = len(x0)
+        vals = {n: np.full((k + 1, 1), v, dtype=float) for n, v in self.fixed.items()}
+        for j, n in enumerate(self.names):
+            col = np.full((k + 1, 1), x0[j])
+            col[j + 1, 0] += h[j]
+            vals[n] = col
+        return vals
 
-        The model is evaluated at ``theta`` and at each one-parameter step at
-        once: every coefficient becomes a ``(P+1, 1)`` column that broadcasts
-        against the N points.
+    def _steps(self, x0: np.ndarray, rel_step: float) -> np.ndarray:
+        h = rel_step * np.maximum(np.abs(x0), self.scale)
+        return np.where(x0 + h > self.upper, -h, h)
+
+    def jacobian(self, theta, inputs: ModelInputs, method: str = "chain"):
+        """Model value and Jacobian with respect to the parameters.
+
+        Parameters
+        ----------
+        theta : array_like
+            Parameter vector of this spec.
+        inputs : ModelInputs
+        method : {'chain', 'fd'}
+            ``'chain'`` (default): the analytic PAC89 Jacobian with respect to
+            the coefficients a0..a13 (:func:`tyrefit.models.pac89.lateral_jacobian`)
+            times the derivative of the point-wise coefficients with respect to
+            the parameters (effects are algebraic in their parameters, so the
+            latter is a cheap difference of :func:`tyrefit.effects.coefficients`).
+            ``'fd'``: forward differences of the whole model, all parameter
+            steps evaluated in one broadcast call (for checking).
 
         Returns
         -------
@@ -91,16 +119,27 @@ class ModelSpec:
             d f / d theta.
         """
         x0 = np.asarray(theta, dtype=float)
-        h = rel_step * np.maximum(np.abs(x0), self.scale)
-        h = np.where(x0 + h > self.upper, -h, h)
+        n = len(inputs.fz)
         k = len(x0)
-        vals = {n: np.full((k + 1, 1), v, dtype=float) for n, v in self.fixed.items()}
-        for j, n in enumerate(self.names):
-            col = np.full((k + 1, 1), x0[j])
-            col[j + 1, 0] += h[j]
-            vals[n] = col
-        F = np.broadcast_to(_model(vals, self.effects, inputs), (k + 1, len(inputs.fz)))
-        return F[0], ((F[1:] - F[0]) / h[:, None]).T
+        if method == "fd":
+            h = self._steps(x0, 1e-7)
+            F = np.broadcast_to(_model(self._columns(x0, h), self.effects, inputs), (k + 1, n))
+            return F[0], ((F[1:] - F[0]) / h[:, None]).T
+        h = self._steps(x0, 1e-6)
+        coef = _coefficients(self._columns(x0, h), self.effects, inputs)
+        p0 = {c: np.broadcast_to(np.asarray(v, dtype=float), (k + 1, n))[0] for c, v in coef.items()}
+        f0, Jc = pac89.lateral_jacobian(p0, inputs.fz, inputs.slip_angle, inputs.camber)
+        J = np.zeros((n, k))
+        for i, c in enumerate(pac89.LATERAL):
+            v = np.asarray(coef[c], dtype=float)
+            if v.ndim == 0:
+                continue
+            v = np.broadcast_to(v, (k + 1, v.shape[-1]))
+            dv = (v[1:] - v[0]) / h[:, None]
+            nz = np.flatnonzero(np.any(dv != 0.0, axis=1))
+            if len(nz):
+                J[:, nz] += Jc[:, i][:, None] * dv[nz].T
+        return f0, J
 
 
 @dataclass
@@ -115,9 +154,10 @@ class FitOut:
     values: dict
 
 
-def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200) -> FitOut:
+def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200, tol: float = 1e-9) -> FitOut:
     """Least-squares fit of ``spec`` to ``data`` (points ``idx``), starting at ``x0``.
 
+    ``tol`` is the relative cost reduction below which the fit stops.
     Returns the fit on the chosen points; raises :class:`FitError` if the model
     cannot be evaluated (non-finite) at the start.
     """
@@ -126,70 +166,75 @@ def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200
     x = spec.start(None) if x0 is None else np.clip(np.asarray(x0, float), spec.lower, spec.upper)
     x = np.where(x <= spec.lower, spec.lower + 1e-9 * spec.scale, x)
     x = np.where(x >= spec.upper, spec.upper - 1e-9 * spec.scale, x)
-    cache: dict = {}
-
     def both(t):
-        key = t.tobytes()
-        if key not in cache:
-            cache.clear()
-            f0, J = spec.jacobian(t, inputs)
-            cache[key] = (f0 - y, J)
-        return cache[key]
+        f0, J = spec.jacobian(t, inputs)
+        return f0 - y, J
 
     def fun(t):
-        return both(t)[0]
-
-    def jac(t):
-        return both(t)[1]
+        return spec.predict(t, inputs) - y
 
     r0 = fun(x)
     if not np.all(np.isfinite(r0)):
         raise FitError("the model is not finite at the start values; check the data units (fz [N], slip [rad])")
-    theta, nfev, ok = _levenberg_marquardt(both, fun, x, spec.lower, spec.upper, spec.scale, max_nfev)
+    theta, nfev, ok = _levenberg_marquardt(both, fun, x, spec.lower, spec.upper, spec.scale, max_nfev, tol)
     r = spec.predict(theta, inputs) - y
     return FitOut(theta=theta, resid=r, rmse=float(np.sqrt(np.mean(r**2))), nfev=nfev,
                   success=ok and bool(np.all(np.isfinite(r))), values=spec.values(theta))
 
 
-def _levenberg_marquardt(both, fun, x, lower, upper, scale, max_nfev: int, tol: float = 1e-10):
-    """Box-projected Levenberg-Marquardt on the scaled normal equations.
+def _levenberg_marquardt(jac, fun, x, lower, upper, scale, max_nfev: int, tol: float = 1e-9):
+    """Box-constrained Levenberg-Marquardt on the scaled normal equations.
 
     The problems are small (P <= ~20 parameters) and start close to the
     optimum, so solving the P x P normal equations with Marquardt's diagonal
     damping is far cheaper than an SVD of the N x P Jacobian per iteration.
-    Steps are clipped to the bounds.  Returns (theta, evaluations, converged).
+    Parameters at a bound whose descent direction points out of the box are
+    held there for the step (active set); the others are clipped to the box.
+    Converges when an accepted step lowers the cost by less than ``tol``
+    relatively or moves no parameter by more than ``tol`` of its scale.
+    Returns (theta, evaluations, converged).
     """
-    r, J = both(x)
+    r, J = jac(x)
     cost = float(r @ r)
-    lam = 1e-3
+    lam, nu = 1e-3, 2.0
     nfev = 1
     converged = False
+    span = 1e-12 * scale
     while nfev < max_nfev:
         Js = J * scale
-        A = Js.T @ Js
         g = Js.T @ r
+        active = ((x <= lower + span) & (g > 0)) | ((x >= upper - span) & (g < 0))
+        free = ~active
+        A = Js[:, free].T @ Js[:, free]
         d = np.diag(A).copy()
         d[d <= 0] = 1.0
+        h = np.zeros_like(x)
         try:
-            step = -np.linalg.solve(A + lam * np.diag(d), g)
+            h[free] = -np.linalg.solve(A + lam * np.diag(d), g[free])
         except np.linalg.LinAlgError:
-            step = -np.linalg.lstsq(A + lam * np.diag(d), g, rcond=None)[0]
-        x_new = np.clip(x + step * scale, lower, upper)
+            h[free] = -np.linalg.lstsq(A + lam * np.diag(d), g[free], rcond=None)[0]
+        x_new = np.clip(x + h * scale, lower, upper)
+        h = (x_new - x) / scale
+        predicted = -(2.0 * h @ g + h @ (Js.T @ (Js @ h)))
         r_new = fun(x_new)
         nfev += 1
         cost_new = float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
         if cost_new < cost:
             rel = (cost - cost_new) / max(cost, 1e-300)
-            dx = np.max(np.abs((x_new - x) / scale))
+            rho = (cost - cost_new) / predicted if predicted > 0 else 0.0
+            dx = np.max(np.abs(h))
             x, cost = x_new, cost_new
-            r, J = both(x)
-            lam = max(lam / 5.0, 1e-12)
+            r, J = jac(x)
+            # Nielsen's damping update: shrink a lot when the linear model was good
+            lam = max(lam * max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), 1e-12)
+            nu = 2.0
             if rel < tol or dx < tol:
                 converged = True
                 break
         else:
-            lam *= 4.0
-            if lam > 1e12:
+            lam *= nu
+            nu *= 2.0
+            if lam > 1e10:
                 converged = True  # no downhill step left: a (possibly bounded) minimum
                 break
     return x, nfev, converged

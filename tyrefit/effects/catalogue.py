@@ -40,7 +40,7 @@ _DEG = 3.141592653589793 / 180.0
 
 #: parameters of the start model (base PAC89), PAC89 units
 BASE: tuple[Param, ...] = (
-    Param("a0", 1.5, (0.8, 3.0), (1.2, 1.9), "-", 1.0, "shape factor C"),
+    Param("a0", 1.5, (0.3, 3.0), (1.1, 1.9), "-", 1.0, "shape factor C"),
     Param("a2", 1000.0, (20.0, 5000.0), (600.0, 1600.0), "N/kN", 1000.0,
           "friction: peak D = a2 Fz (1000 x the friction coefficient)"),
     Param("a3", 1500.0, (1.0, 1e6), (200.0, 1e5), "N/deg", 1000.0, "maximum cornering stiffness"),

@@ -1,0 +1,48 @@
+"""``tyrefit diagnose DATA --json OUT.json [--report DIR]``: find the effects a PAC89 model misses.
+
+Reads lateral-force slip sweeps (CSV with unit headers, TYDEX, FSAE TTC),
+runs :func:`tyrefit.diagnose.diagnose` from the start model (base PAC89 plus
+``--start`` effects) and writes the JSON of the DESIGN contract (``start``,
+``accepted``, ``noise_floor``, ``steps``, ``candidates``) and, with
+``--report DIR``, ``DIR/index.html`` with the whole loop.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ..errors import DataError, OutputExistsError, ValueRangeError
+from ..io.outputs import check_output
+
+__all__ = ["run"]
+
+
+def run(args) -> int:
+    """Run ``tyrefit diagnose``; return the exit code."""
+    from ..diagnose import diagnose
+    from ..effects import parse_effects
+    from ..io.readers import read_data
+
+    force = bool(getattr(args, "force", False))
+    json_path = check_output(args.json, force)
+    report_dir = getattr(args, "report", None)
+    if report_dir:
+        p = Path(report_dir)
+        if p.exists() and (not p.is_dir() or any(p.iterdir())) and not force:
+            raise OutputExistsError(f"{p}: report folder exists and is not empty; pass --force to replace it")
+    start = parse_effects(getattr(args, "start", None))
+    rated = getattr(args, "rated_load", None)
+    if rated is not None and not (math.isfinite(rated) and rated > 0):
+        raise ValueRangeError(f"--rated-load {rated}: the rated load must be a positive force in N (e.g. 6031)")
+    ds = read_data(args.data, convention=getattr(args, "convention", "iso") or "iso")
+    if ds.kind != "slip_angle" or "fy" not in ds.df.columns:
+        raise DataError(f"{args.data}: diagnose needs lateral-force slip-angle sweeps (fy against slip_angle); "
+                        f"this file holds {ds.kind!r} data")
+    dg = diagnose(ds, start=start, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
+    if report_dir:
+        dg.report(report_dir, force=force)
+    dg.to_json(json_path, force=force)
+    print(dg.summary())
+    print(f"wrote {json_path}" + (f" and {Path(report_dir) / 'index.html'}" if report_dir else ""))
+    return 0
