@@ -155,7 +155,8 @@ class RigCalibration:
     @property
     def max_slip_angle(self) -> float:
         """The bound of alpha(Delta y) as Delta y grows [rad]."""
-        return math.atan(1.0 / (self.n * self.b)) if self.b > 0 else math.pi / 2
+        nb = self.n * self.b
+        return math.atan(1.0 / nb) if nb > 0 else math.pi / 2
 
     # -- range checks -------------------------------------------------------------------
     def check(self, u=None, fz=None, pressure=None, *, where: str = "static data") -> list[str]:

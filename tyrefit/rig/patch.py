@@ -120,6 +120,20 @@ def _lsq_at(x, y, xb):
     return coef, float(r @ r)
 
 
+def _profile_sse(x, y, grid):
+    """Residual sum of squares of the linear fit at every trial breakpoint (batched normal equations)."""
+    G = grid[:, None]
+    A = np.stack([np.ones((grid.size, x.size)), np.minimum(x, G), np.maximum(x - G, 0.0)], axis=-1)
+    AtA = np.einsum("gni,gnj->gij", A, A)
+    Aty = np.einsum("gni,n->gi", A, y)
+    try:
+        coef = np.linalg.solve(AtA, Aty[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # a singular trial (all points on one side): fall back
+        return np.array([_lsq_at(x, y, g)[1] for g in grid])
+    r = y[None, :] - np.einsum("gni,gi->gn", A, coef)
+    return np.einsum("gn,gn->g", r, r)
+
+
 def fit_two_gradient(x, y, *, min_side: int = 2, what: str = "data") -> TwoGradientFit:
     """Fit a two-gradient piecewise-linear curve with a free breakpoint.
 
@@ -156,7 +170,7 @@ def fit_two_gradient(x, y, *, min_side: int = 2, what: str = "data") -> TwoGradi
                         f"found {xs.size}")
     lo, hi = xs[min_side - 1], xs[-min_side]
     grid = np.linspace(lo, hi, 400)
-    sse = np.array([_lsq_at(x, y, g)[1] for g in grid])
+    sse = _profile_sse(x, y, grid)
     i = int(np.argmin(sse))
     a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
     res = minimize_scalar(lambda g: _lsq_at(x, y, g)[1], bounds=(a, b), method="bounded",
