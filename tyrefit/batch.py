@@ -76,7 +76,7 @@ DATA_SUFFIXES = (".csv", ".tdx", ".dat")
 SUMMARY_COLUMNS = ("name", "status", "points", "sweeps", "rmse", "r2", "peak_mu", "fz_min", "fz_max",
                    "time_s", "error", "source", "tir")
 #: modules every worker needs; imported once per worker (fork-server preload / Client.run)
-_WARM_MODULES = ("tyrefit.batch", "tyrefit.io.readers", "tyrefit.fitting", "tyrefit.io.tir")
+_WARM_MODULES = ("tyrefit.batch", "tyrefit.io.readers", "tyrefit.fitting", "tyrefit.io.tir", "lmfit")
 _STATUS_DIR = "status"
 
 
@@ -441,7 +441,7 @@ def _run_dask(tasks, client, bar):
                                                           for t in tasks])
     index = {f.key: t for f, t in zip(futs, tasks)}
     out = []
-    for fut in as_completed(futs):
+    for fut in as_completed(futs, loop=client.loop):
         try:
             rec = fut.result()
         except Exception as exc:  # noqa: BLE001 - KilledWorker, lost connection, ...
