@@ -104,6 +104,8 @@ def fit_file(args):
         raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a tyre model; fit needs slip-angle, "
                         "slip-ratio or static-rig lateral tests")
     info = _tyre_info(sfi, args, args.data)
+    # static 'peak' part: C (Eq. 2) and the peak-friction law measured by the static test itself
+    fixed = (getattr(sfi, "anchors", None) or None) if sfi is not None else None
     extras = {"static": sfi, "start": None, "effects": [], "notes": notes, "dataset": ds}
     effects = [e.strip() for e in (getattr(args, "effects", None) or "").split(",") if e.strip()]
     if effects:
@@ -111,15 +113,15 @@ def fit_file(args):
         vary0, _ = resolve([])
         vary1, enotes = resolve(effects)
         notes += list(enotes)
-        extras["start"] = fit_pac89(data, cost=args.cost, vary=vary0, tyre_info=info)
+        extras["start"] = fit_pac89(data, cost=args.cost, vary=vary0, tyre_info=info, fixed=fixed)
         extras["effects"] = effects
         # the effects' model starts from the start model's solution
-        result = fit_pac89(data, cost=args.cost, vary=vary1, tyre_info=info,
+        result = fit_pac89(data, cost=args.cost, vary=vary1, tyre_info=info, fixed=fixed,
                            initial={k: v for k, v in extras["start"].values.items() if k.startswith("a")})
         result.notes.append(f"effects {', '.join(effects)}: start-model RMSE {extras['start'].rmse:.4g} N -> "
                             f"{result.rmse:.4g} N with the effects")
     else:
-        result = fit_pac89(data, cost=args.cost, tyre_info=info)
+        result = fit_pac89(data, cost=args.cost, tyre_info=info, fixed=fixed)
     if sfi is not None and hasattr(sfi, "apply_to"):
         sfi.apply_to(result.tyre)
     result.notes.extend(n for n in notes if n not in result.notes)
