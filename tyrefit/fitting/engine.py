@@ -268,7 +268,9 @@ def identifiability(d: PartData) -> tuple[dict[str, str], dict]:
 
     Returns ``(not_identifiable, facts)``; see the module docstring for the rules.
     """
-    runs = d.df.groupby("run").agg(fz=("fz", "mean"), camber=("camber", "mean"))
+    _, inv = np.unique(d.run, return_inverse=True)
+    cnt = np.bincount(inv)
+    runs = pd.DataFrame({"fz": np.bincount(inv, d.fz) / cnt, "camber": np.bincount(inv, d.camber) / cnt})
     n_l = int(ini.load_levels(runs["fz"].to_numpy()).max() + 1) if len(runs) else 0
     cam_tol = math.radians(0.25)
     n_c = _levels(runs["camber"].to_numpy(), cam_tol)
@@ -400,6 +402,7 @@ class _Problem:
         self.lo, self.hi = lo * 1e-3, hi * 1e-3
         self.w = 1.0 / np.sqrt(d.n_per_run) if cost == "l2" else 1.0 / d.n_per_run
         self.inv_fz = 1.0 / d.fz
+        self.method = "dogbox"
         self._build()
 
     # -- parametrisation ---------------------------------------------------------
@@ -496,9 +499,9 @@ class _Problem:
             return theta0, 0
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            r = least_squares(self.residual, theta0, jac=self.jac, bounds=(self.lb, self.ub), method="trf",
+            r = least_squares(self.residual, theta0, jac=self.jac, bounds=(self.lb, self.ub), method=self.method,
                               x_scale="jac", loss=loss, f_scale=f_scale, max_nfev=max_nfev or 200 * (len(theta0) + 1),
-                              ftol=1e-10, xtol=1e-10, gtol=1e-10)
+                              ftol=1e-9, xtol=1e-9, gtol=1e-9)
         return r.x, int(r.nfev)
 
     def objective(self, theta) -> float:

@@ -282,14 +282,12 @@ def _fit_bcd_law(fzk: np.ndarray, bcd: np.ndarray, a4_default: float) -> tuple[f
     if len(fzk) < 2 or np.ptp(fzk) <= 0:
         s = np.sin(2 * np.arctan(fzk / a4_default))
         return float(np.sum(s * bcd) / np.sum(s * s)), a4_default
-    best = (np.inf, 1.0, a4_default)
-    for a4 in np.geomspace(0.2 * fzk.min(), 20.0 * fzk.max(), 300):
-        s = np.sin(2 * np.arctan(fzk / a4))
-        a3 = float(np.sum(s * bcd) / np.sum(s * s))
-        sse = float(np.sum((a3 * s - bcd) ** 2))
-        if sse < best[0]:
-            best = (sse, a3, float(a4))
-    return best[1], best[2]
+    a4 = np.geomspace(0.2 * fzk.min(), 20.0 * fzk.max(), 300)[:, None]
+    S = np.sin(2 * np.arctan(fzk[None, :] / a4))
+    a3 = np.sum(S * bcd, axis=1) / np.sum(S * S, axis=1)
+    sse = np.sum((a3[:, None] * S - bcd) ** 2, axis=1)
+    i = int(np.argmin(sse))
+    return float(a3[i]), float(a4[i, 0])
 
 
 def lateral_initial(est: pd.DataFrame, *, n_levels: int | None = None) -> dict[str, float]:

@@ -157,9 +157,10 @@ class FitResult:
                 lo, hi = pf.bounds.get(k, (-np.inf, np.inf))
                 params.add(k, value=v, vary=varied, min=lo if lo < v else -np.inf, max=hi if hi > v else np.inf)
                 params[k].stderr = se if varied else None
-            for k in pf.varied:
-                if k in pf.correl.index:
-                    params[k].correl = {j: float(pf.correl.loc[k, j]) for j in pf.varied if j != k}
+            if isinstance(pf.correl, pd.DataFrame) and not pf.correl.empty:
+                cm, ci = pf.correl.to_numpy(), list(pf.correl.index)
+                for a, k in enumerate(ci):
+                    params[k].correl = {j: float(cm[a, b]) for b, j in enumerate(ci) if j != k}
         tyre = _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info)
         return cls(tyre=tyre, params=params, coefficients=pd.DataFrame(rows), correlations=correl,
                    sweeps=pd.DataFrame(sweep_rows), stats=stats, not_identifiable=not_id, estimates=est,
