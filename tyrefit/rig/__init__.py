@@ -326,7 +326,7 @@ def prepare_static_fit(static_ds, patch_ds, *, rig: RigCalibration | None = None
     """
     if part not in PARTS:
         raise DataError(f"unknown static part {part!r}; accepted: " + ", ".join(repr(p) for p in PARTS))
-    sdf, ssrc = _frame(static_ds)
+    ssrc = _frame(static_ds)[1]
     kind = getattr(static_ds, "kind", "static")
     if kind != "static":
         raise DataError(f"{ssrc or 'data'}: is a {kind} test; the static-rig pipeline needs a static lateral push "

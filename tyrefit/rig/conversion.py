@@ -428,8 +428,8 @@ def calibrate(static_ds, dynamic_ds, patch_ds, *, static_fz_tolerance: float = 0
     repeated.  Also fits n alone per load, to show whether f is a function of
     u only, as Eq. 1 assumes.
     """
-    sdf, ssrc = _frame(static_ds)
-    ddf, dsrc = _frame(dynamic_ds)
+    ssrc = _frame(static_ds)[1]
+    dsrc = _frame(dynamic_ds)[1]
     patch = patch_ds if isinstance(patch_ds, PatchModel) else fit_patch(patch_ds)
     psrc = patch.source
     sa = static_ds if isinstance(static_ds, StaticAnalysis) else analyse_static(static_ds)

@@ -178,10 +178,6 @@ class StudyResult:
         return r
 
 
-def _frame(x):
-    return getattr(x, "df", x)
-
-
 def sttr_vs_dttr(reference_static, reference_dynamic, reference_patch, target_static, target_patch,
                  target_dynamic, *, target_vertical=None, cost: str = "l1", rated_load: float | None = None,
                  names: dict | None = None) -> StudyResult:
