@@ -141,7 +141,9 @@ def test_cli_writes_json_and_report(truck, tmp_path, capsys):
     assert main(["compare", str(a), str(b), "--json", str(js)]) == 2
     assert "--force" in capsys.readouterr().err
     assert main(["compare", str(a), str(b), "--json", str(js), "--force"]) == 0
-    # nothing to write; a missing tyre file
-    assert main(["compare", str(a), str(b)]) == 2
+    # no output file: the numbers on stdout only
+    assert main(["compare", str(a), str(b)]) == 0
+    assert "worst mean |dmu|/mu_peak" in capsys.readouterr().out
+    # a missing tyre file
     assert main(["compare", str(a), str(tmp_path / "none.tir"), "--json", str(tmp_path / "x.json")]) == 2
     assert not (tmp_path / "x.json").exists()

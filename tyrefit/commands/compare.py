@@ -13,7 +13,6 @@ import json
 import math
 from pathlib import Path
 
-from ..errors import DataError
 from ..io.outputs import check_output, write_text
 
 __all__ = ["run"]
@@ -45,8 +44,6 @@ def run(args) -> int:
     from ..compare import compare_tyres
     from ..io.tir import read_tyre
 
-    if not args.json and not args.report:
-        raise DataError("compare: give --json OUT.json and/or --report DIR (nothing would be written)")
     if args.json:
         check_output(args.json, args.force)
     if args.report:
