@@ -254,6 +254,15 @@ def _line(key: str, value: str, comment: str = "") -> str:
     return f"{s:<40}$ {comment}" if comment else s
 
 
+def _quoted(text: str) -> str:
+    """Quote a string value so the reader gets it back (no '$'/'!' comment cut inside quotes)."""
+    if "'" not in text:
+        return f"'{text}'"
+    if '"' not in text:
+        return f'"{text}"'
+    return "'" + text.replace("'", "\u2019") + "'"
+
+
 def format_tir(tyre: Pac89Tyre) -> str:
     """The PAC89 ``.tir`` text of ``tyre`` (dimensions in mm, stiffness in N/mm)."""
     bar = "$" + "-" * 70
@@ -266,7 +275,7 @@ def format_tir(tyre: Pac89Tyre) -> str:
             "FILE_FORMAT   = 'ASCII'", "[UNITS]", "LENGTH        = 'mm'", "FORCE         = 'newton'",
             "ANGLE         = 'degrees'", "MASS          = 'kg'", "TIME          = 'sec'",
             bar + "model", "[MODEL]", _line("PROPERTY_FILE_FORMAT", "'PAC89'"),
-            _line("TYRESIDE", f"'{tyre.tyreside}'"), _line("NAME", f"'{name}'")]
+            _line("TYRESIDE", f"'{tyre.tyreside}'"), _line("NAME", _quoted(name))]
     dims = []
     if tyre.unloaded_radius is not None:
         dims.append(_line("UNLOADED_RADIUS", _fc(tyre.unloaded_radius * 1e3), "mm"))
