@@ -187,6 +187,13 @@ def test_nothing_to_fit():
         fit_pac89(df)
 
 
+def test_static_data_need_conversion():
+    df = pd.DataFrame({"run": 1, "fz": 40000.0, "lateral_displacement": np.linspace(0, 0.05, 30),
+                       "fy": np.linspace(0, 20000, 30)})
+    with pytest.raises(DataError, match="prepare_static_fit"):
+        fit_pac89(df)
+
+
 def test_longitudinal_recovery():
     df = longitudinal_sweeps()
     r = fit_pac89(df)

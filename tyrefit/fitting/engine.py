@@ -211,6 +211,10 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
     Points with NaN in the needed columns or Fz <= 0 are dropped.
     """
     df, info = _frame(data)
+    if info.get("kind") == "static" or ("lateral_displacement" in df and "slip_angle" not in df):
+        raise DataError(f"{info['source'] or 'data'}: static-rig data (lateral displacement) must first be turned "
+                        "into slip angles with tyrefit.rig.prepare_static_fit (Komana et al. Eq. 1, needs the "
+                        "contact-patch length); 'tyrefit fit' does this with --patch PATCH.csv")
     parts: dict[str, PartData] = {}
     dropped = []
     lat_runs, lon_runs = [], []
