@@ -282,7 +282,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
     if len(set(fams)) < len(fams):
         raise DataError(f"--start names two variants of one family: {', '.join(start_ids)}")
     eng = _Engine(data, s, seed)
-    floor, floor_per_sweep = noise_floor(data.inputs.slip_angle, data.fy, data.sweep)
+    floor, floor_per_sweep = noise_floor(data.inputs.slip_angle, data.fy, data.sweep, fz=data.inputs.fz)
     if not np.isfinite(floor) or floor <= 0:
         raise DataError("sweeps too short to estimate the noise floor (need >= 10 points per sweep)")
     margin_abs = s.margin * floor

@@ -133,26 +133,37 @@ def holm(p_values) -> np.ndarray:
     return adj
 
 
-def _spline_ssr(x: np.ndarray, y: np.ndarray, spacing: float) -> tuple[float, int]:
-    """SSR and degrees of freedom of a cubic least-squares spline through (x, y)."""
-    order = np.argsort(x, kind="stable")
-    x, y = x[order], y[order]
-    lo, hi = x[0], x[-1]
+def _bspline_basis(x: np.ndarray, spacing: float) -> np.ndarray:
+    lo, hi = x.min(), x.max()
     n_int = int(max(0, np.floor((hi - lo) / spacing) - 1))
     interior = np.linspace(lo, hi, n_int + 2)[1:-1] if n_int > 0 else np.array([])
     t = np.r_[[lo] * 4, interior, [hi] * 4]
-    nb = len(t) - 4
-    if len(x) <= nb + 2:
+    return BSpline.design_matrix(x, t, 3).toarray()
+
+
+def _spline_ssr(x: np.ndarray, y: np.ndarray, spacing: float, load=None) -> tuple[float, int]:
+    """SSR and degrees of freedom of a cubic least-squares spline through (x, y).
+
+    With ``load``, a coarser spline times the relative load deviation is added,
+    so that point-to-point jitter of the measured load (which the model
+    explains) is not counted as noise.
+    """
+    if np.ptp(x) <= 0:
         return 0.0, 0
-    B = BSpline.design_matrix(x, t, 3).toarray()
-    coef, *_ = np.linalg.lstsq(B, y, rcond=None)
-    rank = np.linalg.matrix_rank(B)
+    B = _bspline_basis(x, spacing)
+    if load is not None:
+        dz = (load - load.mean()) / max(abs(load.mean()), 1e-9)
+        if np.ptp(dz) > 1e-6:
+            B = np.hstack([B, _bspline_basis(x, 4 * spacing) * dz[:, None]])
+    if len(x) <= B.shape[1] + 2:
+        return 0.0, 0
+    coef, _, rank, _ = np.linalg.lstsq(B, y, rcond=None)
     r = y - B @ coef
     return float(r @ r), int(len(x) - rank)
 
 
-def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5) -> tuple[float, np.ndarray]:
-    """Within-sweep noise [N]: pooled RMSE of a cubic spline through each sweep.
+def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5, fz=None) -> tuple[float, np.ndarray]:
+    """Within-sweep noise [N]: pooled RMSE of a smooth curve through each sweep.
 
     Parameters
     ----------
@@ -162,8 +173,11 @@ def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5) -> tuple[float,
         [N].
     sweep : array_like of int
     spacing_deg : float
-        Knot spacing [deg]; the Magic Formula curve is smooth on this scale
-        (its approximation error is far below rig noise).
+        Knot spacing [deg] of the cubic spline in slip angle; the Magic
+        Formula curve is smooth on this scale.
+    fz : array_like, optional
+        Measured load [N]; a coarse spline times its relative deviation within
+        the sweep absorbs the load jitter the model explains.
 
     Returns
     -------
@@ -180,6 +194,7 @@ def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5) -> tuple[float,
     """
     a = np.asarray(slip_angle, dtype=float)
     y = np.asarray(fy, dtype=float)
+    z = None if fz is None else np.asarray(fz, dtype=float)
     sw = np.asarray(sweep)
     G = int(sw.max()) + 1
     per = np.full(G, np.nan)
@@ -188,7 +203,8 @@ def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5) -> tuple[float,
         m = sw == g
         if m.sum() < 10:
             continue
-        ssr, dof = _spline_ssr(a[m], y[m], spacing_deg * _DEG)
+        o = np.argsort(a[m], kind="stable")
+        ssr, dof = _spline_ssr(a[m][o], y[m][o], spacing_deg * _DEG, None if z is None else z[m][o])
         if dof > 0:
             per[g] = np.sqrt(ssr / dof)
             ssr_tot += ssr

@@ -47,8 +47,8 @@ def sweep_characteristics(sweep, fz, slip_angle, fy, camber=None, pressure=None,
     -------
     DataFrame
         One row per sweep: ``sweep``, ``fz`` [N], ``camber`` [rad], ``pressure``
-        [Pa], ``speed`` [m/s] (means), ``stiffness`` [N/rad] (-dFy/dalpha near
-        zero slip, positive for a normal tyre), ``fy0`` [N] (Fy at zero slip from
+        [Pa], ``speed`` [m/s] (means), ``stiffness`` [N/rad] (-dFy/dalpha within
+        +/-1 deg of zero slip where there are 5 points, positive for a normal tyre), ``fy0`` [N] (Fy at zero slip from
         the same local line), ``peak_mu`` [-] (mean over the two sides of the
         largest |Fy|/Fz, smoothed over 5 points), ``slip_at_peak`` [rad].
     """
@@ -69,9 +69,9 @@ def sweep_characteristics(sweep, fz, slip_angle, fy, camber=None, pressure=None,
         row = {"sweep": int(sweep[idx[0]]), "fz": float(np.mean(z)), "camber": float(np.mean(arrs["camber"][idx])),
                "pressure": float(np.mean(arrs["pressure"][idx])), "speed": float(np.mean(arrs["speed"][idx]))}
         stiff = fy0 = np.nan
-        for lim in (1.5, 3.0):
+        for lim in (1.0, 1.5, 3.0):
             m = np.abs(a) <= lim * _DEG
-            if m.sum() >= 4 and np.ptp(a[m]) > 0:
+            if m.sum() >= 5 and np.ptp(a[m]) > 0:
                 slope, icpt = np.polyfit(a[m], y[m], 1)
                 stiff, fy0 = -slope, icpt
                 break

@@ -188,11 +188,11 @@ def suite_cases(full: bool = False, seeds: int | None = None) -> list[tuple[tupl
     """(truth, noise, seed) triples of the suite.
 
     Quick: one seed per effect family and noise model, two null seeds per noise
-    model.  Full: 4 seeds per family and noise, 10 null seeds per noise model,
+    model.  Full: 4 seeds per family and noise, 20 null seeds per noise model,
     and the two-effect case (camber + pressure).
     """
     n_eff = seeds if seeds is not None else (4 if full else 1)
-    n_null = seeds if seeds is not None else (10 if full else 2)
+    n_null = seeds if seeds is not None else (20 if full else 2)
     out = []
     families = list(EFFECT_SIZES) + [("camber", "pressure")]
     for noise in NOISE_MODELS:

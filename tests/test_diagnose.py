@@ -1,0 +1,328 @@
+"""Diagnose: statistics, data preparation, fitter, the loop end to end, JSON, report, CLI."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tyrefit.cli import main
+from tyrefit.diagnose import Settings, diagnose, prepare
+from tyrefit.diagnose.data import condition_levels
+from tyrefit.diagnose.fitter import ModelSpec, fit, fit_start
+from tyrefit.diagnose.stats import holm, level_folds, noise_floor, score_test, sweep_folds
+from tyrefit.diagnose.views import even_odd
+from tyrefit.effects import EFFECTS
+from tyrefit.errors import ColumnError, DataError
+from tyrefit.synthetic.hidden import EFFECT_SIZES, TRUTH_BASE, make_case, rig_grid
+
+DEG = np.pi / 180
+STATUSES = {"accepted", "in start model", "not significant", "not testable with these data",
+            "significant but not confirmed", "variant not distinguishable", "covered", "confirmed, not added",
+            "significant, not refitted"}
+
+
+# --- statistics ---------------------------------------------------------------------------
+def test_holm_known_values():
+    np.testing.assert_allclose(holm([0.01, 0.04, 0.03, 0.005]), [0.03, 0.06, 0.06, 0.02])
+    assert holm([]).size == 0
+    assert np.all(holm([0.5, 0.9]) <= 1.0)
+
+
+def _ar1(rng, G, n, rho, sd):
+    e = np.empty((G, n))
+    e[:, 0] = rng.normal(0, sd, G)
+    for i in range(1, n):
+        e[:, i] = rho * e[:, i - 1] + rng.normal(0, sd * np.sqrt(1 - rho**2), G)
+    return e.ravel()
+
+
+def test_score_test_holds_its_level_under_correlated_noise_where_an_iid_test_does_not():
+    """Pure AR(1) noise along 30 sweeps, a smooth 'effect' direction: the sweep-clustered score
+    test rejects at about its nominal 5 %, the i.i.d. chi-square LM test far more often."""
+    rng = np.random.default_rng(11)
+    G, n = 30, 49
+    u = np.tile(np.linspace(-1, 1, n), G)
+    sweep = np.repeat(np.arange(G), n)
+    level = np.repeat(rng.uniform(-1, 1, G), n)
+    J_model = np.c_[np.ones(G * n), u, u**3]
+    J_new = (level * u**2)[:, None]
+    from scipy.stats import chi2
+
+    rej_cluster = rej_iid = 0
+    runs = 200
+    for _ in range(runs):
+        y = _ar1(rng, G, n, 0.9, 1.0)
+        beta, *_ = np.linalg.lstsq(J_model, y, rcond=None)
+        r = y - J_model @ beta
+        t = score_test(J_model, J_new, r, sweep, G, rng, n_boot=399)
+        rej_cluster += t.p_value < 0.05
+        rej_iid += chi2.sf(t.predicted_dssr / np.var(r), 1) < 0.05
+    assert rej_cluster / runs < 0.10
+    assert rej_iid / runs > 0.25
+
+
+def test_score_test_detects_a_real_effect():
+    rng = np.random.default_rng(3)
+    G, n = 20, 40
+    u = np.tile(np.linspace(-1, 1, n), G)
+    sweep = np.repeat(np.arange(G), n)
+    J_model = np.c_[np.ones(G * n), u]
+    J_new = (u**2)[:, None]
+    y = 0.5 * u**2 + rng.normal(0, 0.3, G * n)
+    beta, *_ = np.linalg.lstsq(J_model, y, rcond=None)
+    t = score_test(J_model, J_new, y - J_model @ beta, sweep, G, rng, n_boot=999)
+    assert t.p_value <= 0.002 and t.df == 1 and t.predicted_dssr > 0
+
+
+def test_noise_floor_recovers_iid_noise():
+    case = make_case((), "iid", seed=5, sigma=30.0)
+    data = prepare(case.data)
+    floor, per = noise_floor(data.inputs.slip_angle, data.fy, data.sweep, fz=data.inputs.fz)
+    assert floor == pytest.approx(30.0, rel=0.05)
+    assert per.shape == (data.n_sweeps,)
+
+
+def test_folds_hold_out_whole_sweeps_and_interior_levels():
+    rng = np.random.default_rng(0)
+    cells = np.repeat(np.arange(10), 3)
+    folds = sweep_folds(cells, 5, rng)
+    assert sorted(np.concatenate(folds).tolist()) == list(range(30))
+    for f in folds:  # each condition cell is spread over the folds
+        assert len(set(cells[f])) == len(f)
+    lv = {"fz": np.arange(30) % 5, "camber": np.arange(30) % 3, "pressure": np.arange(30) % 2}
+    levels = {"fz": np.arange(5.0), "camber": np.arange(3.0), "pressure": np.arange(2.0)}
+    out = level_folds(lv, levels)
+    labels = [lab for lab, _ in out]
+    assert labels == ["fz level 2", "fz level 1", "camber level 1"]  # interior only, centre first
+    assert all(np.all(lv["fz"][t] == 2) for lab, t in out if lab == "fz level 2")
+
+
+def test_even_odd_parts():
+    a = np.tile(np.linspace(-10, 10, 41) * DEG, 2)
+    sweep = np.repeat([0, 1], 41)
+    r = np.where(sweep == 0, 50.0, 1000.0 * a)  # sweep 0 a pure shift, sweep 1 a pure slope
+    eo = even_odd(a, r, sweep).set_index("sweep")
+    assert eo.loc[0, "even_rms"] == pytest.approx(50.0) and eo.loc[0, "odd_rms"] == pytest.approx(0.0, abs=1e-9)
+    assert eo.loc[1, "even_rms"] == pytest.approx(0.0, abs=1e-9) and eo.loc[1, "odd_rms"] > 50
+
+
+# --- data preparation ----------------------------------------------------------------------
+def test_condition_levels_with_jitter_and_ramps():
+    rng = np.random.default_rng(0)
+    sets = np.repeat([2000.0, 4000.0, 6000.0], 300) + rng.normal(0, 20, 900)
+    ramp = np.linspace(2000, 6000, 20)
+    levels, idx = condition_levels(np.r_[sets, ramp], 100.0)
+    np.testing.assert_allclose(levels, [2000, 4000, 6000], atol=10)
+    assert idx[:300].tolist() == [0] * 300 and idx[-1] == 2
+
+
+def test_prepare_splits_runs_thins_and_summarises():
+    case = make_case(("camber",), "iid", seed=1)
+    d = case.data.copy()
+    d["run"] = 0  # one run holding every condition, as in an FSAE TTC file
+    data = prepare(d, rated_load=6000.0, max_points_per_sweep=30)
+    assert data.n_sweeps == 30 and data.n <= 30 * 30 and data.n_raw == len(d)
+    assert data.notes and "thinned" in data.notes[0]
+    s = data.summary
+    assert len(s.fz_levels) == 5 and len(s.camber_levels) == 3 and len(s.pressure_levels) == 2
+    assert s.rated_load == 6000.0 and s.slip_max == pytest.approx(12 * DEG, rel=0.01)
+    assert data.inputs.pressure_ref == pytest.approx(240e3)
+
+
+def test_prepare_errors():
+    case = make_case((), "iid", seed=1)
+    with pytest.raises(ColumnError, match="missing column.*fy"):
+        prepare(case.data.drop(columns="fy"))
+    neg = case.data.assign(fz=-case.data["fz"])
+    with pytest.raises(DataError, match="--convention sae"):
+        prepare(neg)
+    with pytest.raises(DataError, match="rated load"):
+        prepare(case.data, rated_load=-5.0)
+
+
+# --- fitter --------------------------------------------------------------------------------
+def test_fitter_recovers_known_coefficients_from_noiseless_data():
+    case = make_case(("camber", "pressure"), "iid", seed=2, sigma=1e-9)
+    data = prepare(case.data, rated_load=6000.0)
+    base = fit_start(ModelSpec(()), data)
+    spec = ModelSpec(("camber", "pressure"))
+    out = fit(spec, data, x0=spec.start(base.values))
+    truth = {**TRUTH_BASE, **EFFECT_SIZES["camber"], **EFFECT_SIZES["pressure"]}
+    for k, v in truth.items():
+        assert out.values[k] == pytest.approx(v, rel=1e-5, abs=1e-7), k
+    assert out.rmse < 1e-4
+
+
+def test_chained_jacobian_matches_finite_differences():
+    case = make_case(("overload",), "iid", seed=2)
+    data = prepare(case.data, rated_load=6000.0)
+    spec = ModelSpec(("load_friction", "overload_stiffness", "camber", "offsets", "pressure", "curvature_load"))
+    vals = {**TRUTH_BASE, "a1": -10, "overload_mu": 0.2, "overload_ky": 0.1, "a5": 0.01, "a8": 0.02, "a11": 10,
+            "a9": 0.01, "a10": 0.1, "a12": 3, "a13": 20, "pressure_ky": 0.3, "pressure_mu": -0.2, "a6": -0.05}
+    th = spec.start(vals)
+    f1, J1 = spec.jacobian(th, data.inputs)
+    f2, J2 = spec.jacobian(th, data.inputs, method="fd")
+    np.testing.assert_array_equal(f1, spec.predict(th, data.inputs))
+    np.testing.assert_allclose(f1, f2, rtol=0, atol=1e-9)
+    scale = np.abs(J2).max(axis=0)
+    assert np.all(np.abs(J1 - J2) <= 1e-5 * scale)
+
+
+# --- the loop ------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def camber_dg():
+    case = make_case(("camber",), "offsets", seed=4)
+    return diagnose(case.data, rated_load=case.rated_load, seed=4)
+
+
+def test_diagnose_finds_camber_and_reports_every_effect(camber_dg):
+    dg = camber_dg
+    assert dg.accepted and dg.accepted[0].startswith("camber")
+    assert set(dg.candidates) == set(EFFECTS)
+    assert all(c.status in STATUSES for c in dg.candidates.values())
+    assert dg.candidates["speed"].status == "not testable with these data"
+    assert "speed" in dg.candidates["speed"].reason
+    # the error falls, and the final held-out error is near the true noise (40 N)
+    assert dg.steps[-1].rmse_heldout < 0.25 * dg.steps[0].rmse_heldout
+    assert dg.steps[-1].rmse_heldout < 1.3 * 40.0
+    assert dg.unexplained["summary"]
+
+
+def test_diagnose_json_keys(camber_dg):
+    d = json.loads(camber_dg.to_json())
+    assert {"start", "accepted", "noise_floor", "steps", "candidates"} <= set(d)
+    assert d["start"] == [] and d["accepted"] == camber_dg.accepted
+    assert isinstance(d["noise_floor"], float) and d["noise_floor"] > 0
+    assert d["steps"][0]["effects"] == [] and all({"effects", "rmse", "rmse_heldout"} <= set(s) for s in d["steps"])
+    assert len(d["steps"]) == len(d["accepted"]) + 1
+    assert [c["effect"] for c in d["candidates"]] == list(EFFECTS)
+    assert all("status" in c for c in d["candidates"])
+
+
+def test_diagnose_null_accepts_nothing_and_never_claims_absence():
+    case = make_case((), "ar1", seed=7)
+    dg = diagnose(case.data, rated_load=case.rated_load, seed=7)
+    assert dg.accepted == [] and len(dg.steps) == 1
+    statuses = {c.status for c in dg.candidates.values()}
+    assert "accepted" not in statuses
+    assert all("absent" not in c.reason for c in dg.candidates.values())
+
+
+def test_start_effects_are_in_the_start_model():
+    case = make_case(("camber", "pressure"), "iid", seed=3)
+    dg = diagnose(case.data, start="camber", rated_load=case.rated_load, seed=3)
+    assert dg.start == ["camber"] and dg.steps[0].effects == ["camber"]
+    assert dg.candidates["camber"].status == "in start model"
+    assert dg.accepted[0] == "pressure"
+    with pytest.raises(DataError, match="speed.*cannot be fitted"):
+        diagnose(case.data, start="speed")
+
+
+def test_overload_needs_the_rated_load():
+    case = make_case(("overload",), "iid", seed=1)
+    dg = diagnose(case.data, seed=1)
+    assert dg.candidates["overload"].status == "not testable with these data"
+    assert "--rated-load" in dg.candidates["overload"].reason
+    dg2 = diagnose(case.data, rated_load=case.rated_load, seed=1)
+    assert dg2.accepted[0] == "overload"
+    # PAC89 cannot hold the knee: the export refit uses a1 and is worse than the final model
+    assert dg2.export["effects"] == ["load_friction"] and dg2.export["rmse"] > dg2.final.rmse
+
+
+def test_settings_override():
+    case = make_case(("offsets",), "iid", seed=1)
+    dg = diagnose(case.data, seed=1, margin=50.0)  # an absurd margin: nothing can be confirmed
+    assert dg.accepted == []
+    assert dg.candidates["offsets"].status == "significant but not confirmed"
+    assert "practical margin" in dg.candidates["offsets"].reason
+    assert isinstance(dg.settings, Settings) and dg.settings.margin == 50.0
+
+
+def test_long_records_are_thinned_and_still_diagnosed():
+    """FSAE-TTC-like records: thousands of points per sweep, AR(1) noise along it."""
+    grid = rig_grid(loads=(600.0, 1100.0, 1600.0), cambers_deg=(0.0, 2.0, 4.0), pressures=(70e3, 83e3),
+                    points_per_sweep=2000)
+    case = make_case(("camber",), "ar1", seed=2, sigma=25.0, grid=grid)
+    dg = diagnose(case.data, seed=2)
+    assert dg.data.n_raw == 18 * 2000 and dg.data.n == 18 * 100
+    assert dg.accepted and dg.accepted[0].startswith("camber")
+
+
+def test_report_shows_the_whole_loop(camber_dg, tmp_path):
+    path = camber_dg.report(tmp_path / "rep")
+    html = path.read_text()
+    for text in ("The loop", "Evidence for every catalogue effect", "Where the start model fails",
+                 "Fit against the data", "The effects that were added", "What it means for the exported .tir",
+                 "Structure still unexplained", "what happens in the tyre", "not testable with these data"):
+        assert text in html, text
+    assert html.count("data:image/png;base64") >= 5
+    assert (tmp_path / "rep" / "cells.csv").exists() and (tmp_path / "rep" / "candidates.csv").exists()
+    with pytest.raises(FileExistsError):
+        camber_dg.report(tmp_path / "rep")
+
+
+# --- command line --------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def small_csv(tmp_path_factory):
+    case = make_case(("offsets",), "iid", seed=9)
+    d = case.data
+    p = tmp_path_factory.mktemp("diag") / "sweeps.csv"
+    pd.DataFrame({"run": d["run"], "fz [kN]": d["fz"] / 1e3, "slip_angle [deg]": d["slip_angle"] / DEG,
+                  "camber [deg]": d["camber"] / DEG, "pressure [bar]": d["pressure"] / 1e5,
+                  "fy [N]": d["fy"]}).to_csv(p, index=False)
+    return p
+
+
+def test_cli_diagnose(small_csv, tmp_path, capsys):
+    out = tmp_path / "out.json"
+    rc = main(["diagnose", str(small_csv), "--json", str(out), "--report", str(tmp_path / "rep"), "--seed", "3"])
+    assert rc == 0
+    d = json.loads(out.read_text())
+    assert d["accepted"] and d["accepted"][0].startswith("offsets")
+    assert (tmp_path / "rep" / "index.html").exists()
+    assert "accepted:" in capsys.readouterr().out
+    # existing outputs are kept unless --force
+    assert main(["diagnose", str(small_csv), "--json", str(out)]) == 2
+    assert "exists" in capsys.readouterr().err
+    assert main(["diagnose", str(small_csv), "--json", str(out), "--force", "--start", "offsets"]) == 0
+    assert json.loads(out.read_text())["start"] == ["offsets"]
+
+
+@pytest.mark.parametrize("argv,msg", [
+    (["--start", "cambr"], "did you mean 'camber'"),
+    (["--rated-load", "-3"], "rated load must be a positive"),
+    (["--start", "speed"], "cannot be fitted"),
+])
+def test_cli_diagnose_bad_input(small_csv, tmp_path, capsys, argv, msg):
+    out = tmp_path / "x.json"
+    assert main(["diagnose", str(small_csv), "--json", str(out)] + argv) == 2
+    err = capsys.readouterr().err
+    assert msg in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_cli_diagnose_rejects_static_data(tmp_path, capsys):
+    p = tmp_path / "static.csv"
+    pd.DataFrame({"lateral_displacement [mm]": np.linspace(0, 50, 30), "fy [N]": np.linspace(0, 9000, 30),
+                  "fz [N]": 40000.0}).to_csv(p, index=False)
+    assert main(["diagnose", str(p), "--json", str(tmp_path / "o.json")]) == 2
+    assert "slip-angle sweeps" in capsys.readouterr().err
+
+
+# --- bundled passenger tyre ------------------------------------------------------------------------
+def test_bundled_passenger_tyre_recovers_its_hidden_truth():
+    from tyrefit.datasets import data_path
+    from tyrefit.io.readers import read_data
+    from tyrefit.synthetic import passenger
+
+    ds = read_data(data_path("passenger", "passenger_205_55R16.csv"))
+    dg = diagnose(ds, rated_load=passenger.RATED_LOAD)
+    fams = {EFFECTS[e].family for e in dg.effects}
+    assert fams == {"load_friction", "camber", "pressure", "offsets"}
+    for eid in ("overload", "overload_stiffness", "curvature_load"):
+        assert dg.candidates[eid].status == "not significant"
+    v = dg.final.fit.values
+    for k in ("a1", "a5", "a8", "a11", "a13", "pressure_ky", "pressure_mu"):
+        assert v[k] == pytest.approx(passenger.TRUTH[k], rel=0.15), k
+    assert dg.final.rmse_heldout < 1.15 * 26.0  # about the total noise of the generator

@@ -1,0 +1,233 @@
+"""Effect catalogue: registry, neutral values (bit for bit), PAC89 mapping, physics, testability."""
+
+import numpy as np
+import pytest
+
+from tyrefit.effects import (BASE_NAMES, EFFECTS, FAMILIES, DataSummary, ModelInputs, coefficients, get_effect,
+                             lateral_force, overload_factor, parse_effects, relative_factor, resolve_pac89)
+from tyrefit.effects.signatures import SIGNATURES, SignatureView, sweep_characteristics
+from tyrefit.errors import DataError
+from tyrefit.models import pac89
+
+DEG = np.pi / 180
+
+BASE = {"a0": 1.45, "a2": 1100.0, "a3": 1500.0, "a4": 8.0, "a7": -0.3}
+SIZES = {"a1": -25.0, "a5": 0.01, "a6": -0.08, "a8": 0.05, "a9": 0.02, "a10": 0.15, "a11": 15.0, "a12": 8.0,
+         "a13": 60.0, "overload_mu": 0.45, "overload_ky": 0.3, "pressure_ky": 0.5, "pressure_mu": -0.3,
+         "speed_mu": -0.12, "speed_ky": 0.05}
+
+
+def grid(n=400, seed=0):
+    rng = np.random.default_rng(seed)
+    return ModelInputs(fz=rng.uniform(1500, 9000, n), slip_angle=rng.uniform(-14, 14, n) * DEG,
+                       camber=rng.choice([-4.0, 0.0, 2.0, 4.0], n) * DEG, pressure=rng.choice([200e3, 230e3, 260e3], n),
+                       speed=rng.choice([40 / 3.6, 100 / 3.6], n), rated_load=6000.0, pressure_ref=230e3,
+                       speed_ref=100 / 3.6)
+
+
+def test_required_families_and_ids():
+    for fam in ("load_friction", "overload", "camber", "offsets", "pressure", "curvature_load"):
+        assert fam in FAMILIES
+    for eid, e in EFFECTS.items():
+        assert eid == e.id and eid.startswith(e.family)
+    assert set(get_effect("camber").param_names) == {"a5", "a8", "a11"}
+    assert set(get_effect("offsets").param_names) == {"a9", "a10", "a12", "a13"}
+    assert get_effect("load_friction").param_names == ("a1",)
+    assert BASE_NAMES == ("a0", "a2", "a3", "a4", "a7")
+
+
+@pytest.mark.parametrize("eid", list(EFFECTS))
+def test_every_effect_is_documented(eid):
+    e = EFFECTS[eid]
+    for field in ("what", "size", "test", "vehicle"):
+        assert len(getattr(e.card, field)) > 20
+    assert e.card.sources and e.needs and e.pac89_note
+    assert e.signature in SIGNATURES
+    for p in e.params:
+        lo, hi = p.bounds
+        assert lo <= p.neutral <= hi
+        assert lo <= p.plausible[0] <= p.plausible[1] <= hi
+        assert p.scale > 0 and p.unit and p.meaning
+    if e.representable:
+        assert set(e.pac89) == set(e.param_names)
+    else:
+        assert "not representable in PAC89" in e.pac89_note
+
+
+def test_cards_cite_the_seeds():
+    assert "seed 003" in get_effect("overload").card.sources[0]
+    assert "4250" in get_effect("overload").card.size
+    cam = " ".join(get_effect("camber").card.sources)
+    assert "seed 001" in cam and "tyrefit.models.brush" in cam
+    assert "Eq. 19" in get_effect("camber").card.what
+
+
+_PREVIOUS = [(), ("load_friction", "camber"), ("pressure", "overload", "offsets"), ("speed", "curvature_load")]
+# every effect on top of every previous model that does not already hold a variant of its family
+_PAIRS = [(eid, prev) for eid in EFFECTS for prev in _PREVIOUS
+          if all(EFFECTS[p].family != EFFECTS[eid].family for p in prev)]
+
+
+@pytest.mark.parametrize("eid,previous", _PAIRS)
+def test_neutral_gives_back_previous_model_bit_for_bit(eid, previous):
+    e = EFFECTS[eid]
+    x = grid()
+    values = dict(BASE)
+    for p in previous:
+        values.update({n: SIZES[n] for n in EFFECTS[p].param_names})
+    before = lateral_force(values, previous, x)
+    with_neutral = dict(values)
+    with_neutral.update(e.neutral)
+    after = lateral_force(with_neutral, list(previous) + [eid], x)
+    assert before.tobytes() == after.tobytes()
+
+
+def test_start_model_is_pac89_exactly():
+    x = grid()
+    ours = lateral_force(BASE, [], x)
+    ref = pac89.lateral_force({**{f"a{i}": 0.0 for i in range(14)}, **BASE}, x.fz, x.slip_angle, x.camber)
+    assert ours.tobytes() == ref.tobytes()
+
+
+@pytest.mark.parametrize("eid", [e for e in EFFECTS if EFFECTS[e].representable])
+def test_representable_effects_are_the_pac89_coefficients(eid):
+    x = grid()
+    v = dict(BASE, **{n: SIZES[n] for n in EFFECTS[eid].param_names})
+    ref = pac89.lateral_force({**{f"a{i}": 0.0 for i in range(14)}, **v}, x.fz, x.slip_angle, x.camber)
+    np.testing.assert_array_equal(lateral_force(v, [eid], x), ref)
+
+
+def test_overload_is_a_hinge_at_the_rated_load():
+    x = grid()
+    v = dict(BASE, overload_mu=0.45)
+    below = x.fz <= x.rated_load
+    base = lateral_force(BASE, [], x)
+    ov = lateral_force(v, ["overload"], x)
+    np.testing.assert_array_equal(ov[below], base[below])
+    assert np.all(np.abs(ov[~below & (np.abs(x.slip_angle) > 8 * DEG)]) <
+                  np.abs(base[~below & (np.abs(x.slip_angle) > 8 * DEG)]))
+    # D scales by exactly the factor: compare with a2 scaled point by point
+    m = overload_factor(x.fz, 6000.0, 0.45)
+    ref = pac89.lateral_force({**{f"a{i}": 0.0 for i in range(14)}, **BASE, "a2": BASE["a2"] * m},
+                              x.fz, x.slip_angle, x.camber)
+    np.testing.assert_allclose(ov, ref, rtol=0, atol=1e-9)
+    assert overload_factor(9000.0, 6000.0, 0.45) == pytest.approx(1 - 0.45 * 0.5)
+
+
+def test_pressure_scales_cornering_stiffness_and_peak():
+    fz = np.full(3, 4000.0)
+    p = np.array([200e3, 230e3, 260e3])
+    v = dict(BASE, pressure_ky=0.5, pressure_mu=-0.3)
+
+    def fy(a):
+        x = ModelInputs(fz=fz, slip_angle=np.full(3, a), camber=np.zeros(3), pressure=p, pressure_ref=230e3)
+        return lateral_force(v, ["pressure"], x)
+
+    h = 1e-6
+    stiff = -(fy(h) - fy(-h)) / (2 * h)
+    np.testing.assert_allclose(stiff / stiff[1], relative_factor(p, 230e3, 0.5), rtol=1e-6)
+    coef = coefficients(v, ["pressure"], ModelInputs(fz=fz, slip_angle=np.zeros(3), camber=np.zeros(3),
+                                                     pressure=p, pressure_ref=230e3))
+    np.testing.assert_allclose(coef["a2"] / BASE["a2"], 1 - 0.3 * (p - 230e3) / 230e3)
+
+
+def test_camber_symmetries():
+    a = np.linspace(-12, 12, 49) * DEG
+    fz = np.full_like(a, 5000.0)
+    for g in (2 * DEG, 4 * DEG):
+        pos = ModelInputs(fz=fz, slip_angle=a, camber=np.full_like(a, g))
+        neg = ModelInputs(fz=fz, slip_angle=-a, camber=np.full_like(a, -g))
+        thrust = dict(BASE, a8=0.05, a11=15.0)
+        # thrust and shift are odd in (slip, camber) together
+        np.testing.assert_allclose(lateral_force(thrust, ["camber_thrust"], pos),
+                                   -lateral_force(thrust, ["camber_thrust"], neg), atol=1e-9)
+        # the stiffness loss a5 |gamma| is even in camber
+        loss = dict(BASE, a5=0.01)
+        same = ModelInputs(fz=fz, slip_angle=a, camber=np.full_like(a, -g))
+        np.testing.assert_array_equal(lateral_force(loss, ["camber"], pos), lateral_force(loss, ["camber"], same))
+    # camber thrust at zero slip: Sv = a11 Fz gamma (PAC89 sign) -> ISO-W -Sv, plus the shift
+    x0 = ModelInputs(fz=np.array([5000.0]), slip_angle=np.zeros(1), camber=np.array([3 * DEG]))
+    f = lateral_force(dict(BASE, a11=15.0), ["camber_thrust"], x0)
+    assert f[0] == pytest.approx(-15.0 * 5.0 * 3.0, rel=1e-12)
+
+
+def test_missing_condition_is_a_clear_error():
+    x = ModelInputs(fz=np.array([4000.0]), slip_angle=np.zeros(1), camber=np.zeros(1))
+    with pytest.raises(DataError, match="pressure"):
+        lateral_force(dict(BASE, pressure_ky=0.1), ["pressure"], x)
+    with pytest.raises(DataError, match="rated_load"):
+        lateral_force(dict(BASE, overload_mu=0.1), ["overload"], x)
+
+
+def test_resolve_pac89():
+    vary, notes = resolve_pac89([])
+    assert vary == ["a0", "a2", "a3", "a4", "a7"] and notes == []
+    vary, notes = resolve_pac89(["camber", "offsets"])
+    assert vary == ["a0", "a2", "a3", "a4", "a5", "a7", "a8", "a9", "a10", "a11", "a12", "a13"] and notes == []
+    vary, notes = resolve_pac89(["overload"])
+    assert "a1" in vary and len(notes) == 1 and "a1" in notes[0] and "knee" in notes[0]
+    vary, notes = resolve_pac89(["pressure", "load_friction"])
+    assert vary == ["a0", "a1", "a2", "a3", "a4", "a7"]
+    assert notes[0].startswith("pressure:") and "per pressure" in notes[0] and "MF 6" in notes[0]
+    with pytest.raises(DataError, match="did you mean 'camber'"):
+        resolve_pac89(["cambr"])
+
+
+def test_parse_effects():
+    assert parse_effects("camber, pressure,camber") == ["camber", "pressure"]
+    assert parse_effects(None) == [] and parse_effects("") == []
+    with pytest.raises(DataError, match="unknown effect 'presure'.*did you mean 'pressure'"):
+        parse_effects("presure")
+
+
+def test_testability_rules():
+    deg = DEG
+    rich = DataSummary(fz_levels=(2e3, 4e3, 6e3, 8e3), camber_levels=(-3 * deg, 0.0, 3 * deg),
+                       pressure_levels=(2e5, 2.4e5), speed_levels=(16.7,), slip_min=-12 * deg, slip_max=12 * deg,
+                       rated_load=6500.0)
+    ok = {e: EFFECTS[e].why_not_testable(rich) for e in EFFECTS}
+    assert all(ok[e] is None for e in EFFECTS if e != "speed")
+    assert "speed" in ok["speed"]
+    poor = DataSummary(fz_levels=(4e3, 6e3), camber_levels=(0.0, 2 * deg), slip_min=0.0, slip_max=4 * deg)
+    why = {e: EFFECTS[e].why_not_testable(poor) for e in EFFECTS}
+    assert "3 load levels" in why["load_friction"]
+    assert "rated load" in why["overload"]
+    assert "3 camber levels" in why["camber"] and why["camber_thrust"] is None
+    assert "both directions" in why["offsets_constant"]
+    assert "pressure" in why["pressure"]
+    no_over = DataSummary(fz_levels=(2e3, 4e3, 6e3), slip_min=-12 * deg, slip_max=12 * deg, rated_load=7000.0)
+    assert "above the rated load" in EFFECTS["overload"].why_not_testable(no_over)
+
+
+def test_sweep_characteristics_recover_model_values():
+    a = np.linspace(-12, 12, 97) * DEG
+    fz = np.full_like(a, 4000.0)
+    x = ModelInputs(fz=fz, slip_angle=a, camber=np.zeros_like(a))
+    v = dict(BASE, a13=50.0)
+    fy = lateral_force(v, ["offsets_constant"], x)
+    ch = sweep_characteristics(np.zeros_like(a, dtype=int), fz, a, fy)
+    bcd = 1500.0 * np.sin(2 * np.arctan(4.0 / 8.0))  # N/deg
+    assert ch["stiffness"].iloc[0] * DEG == pytest.approx(bcd, rel=0.02)
+    assert ch["fy0"].iloc[0] == pytest.approx(-50.0, abs=3.0)
+    assert ch["peak_mu"].iloc[0] == pytest.approx(1.1, rel=0.03)
+
+
+def test_signature_plot_returns_axes():
+    import matplotlib.pyplot as plt
+
+    rng = np.random.default_rng(1)
+    rows = []
+    for k, (f, c) in enumerate([(f, c) for f in (3e3, 5e3) for c in (-3, 0, 3)]):
+        a = np.linspace(-12, 12, 49) * DEG
+        x = ModelInputs(fz=np.full_like(a, f), slip_angle=a, camber=np.full_like(a, c * DEG))
+        rows.append((k, x, lateral_force(dict(BASE, a11=15.0), ["camber_thrust"], x)))
+    sw = np.concatenate([np.full(49, k) for k, _, _ in rows])
+    fz = np.concatenate([x.fz for _, x, _ in rows])
+    al = np.concatenate([x.slip_angle for _, x, _ in rows])
+    cam = np.concatenate([x.camber for _, x, _ in rows])
+    fy = np.concatenate([y for _, _, y in rows])
+    d = sweep_characteristics(sw, fz, al, fy + rng.normal(0, 5, len(fy)), cam)
+    view = SignatureView(d, sweep_characteristics(sw, fz, al, 0 * fy, cam), sweep_characteristics(sw, fz, al, fy, cam))
+    ax = get_effect("camber").plot_signature(view)
+    assert ax.get_xlabel() == "camber [deg]"
+    plt.close("all")
