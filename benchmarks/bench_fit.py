@@ -23,6 +23,11 @@ Measurements per size:
   tyrefit's analytic Jacobian, same settings otherwise) vs the same call with
   ``jac='2-point'`` - the Jacobian's share.
 
+* robustness (3k only): plain FD ``least_squares`` from three textbook
+  starting points (no Eq. 2-4 estimates) vs ``fit_pac89(initial=...)`` from
+  the same points; a start succeeds when the worst error against the
+  generating curves is below 1 % of peak.
+
 Each row records both RMSEs [N] of Fy over all points and the worst error
 against the generating curves [% of peak].  ``python -m benchmarks.bench_fit``
 prints the dict.
@@ -82,6 +87,41 @@ def _plain_fd(df, start):
     return dict(zip(names, r.x)), r
 
 
+#: textbook starting points a user without Eq. 2-4 estimates might try (rest 0)
+GENERIC_STARTS = [dict(a0=1.3, a2=1000.0, a3=1000.0, a4=10.0, a7=0.0),
+                  dict(a0=1.5, a2=1000.0, a3=2000.0, a4=5.0, a7=-1.0),
+                  dict(a0=1.0, a2=800.0, a3=500.0, a4=20.0, a7=0.5)]
+
+
+def _robustness(df, fit_pac89, single_threaded_blas) -> dict:
+    """Plain FD least_squares from textbook starts vs fit_pac89(initial=...) from the same starts.
+
+    A start "succeeds" when the fit's worst error against the generating curves is below 1 % of peak.
+    """
+    import time
+
+    t_fd = t_fit = 0.0
+    ok_fd = ok_fit = 0
+    rm_fd, rm_fit = [], []
+    for st in GENERIC_STARTS:
+        start = {f"a{i}": 0.0 for i in range(14)}
+        start.update(st)
+        with single_threaded_blas():
+            t0 = time.perf_counter()
+            c, _ = _plain_fd(df, start)
+            t_fd += time.perf_counter() - t0
+        t0 = time.perf_counter()
+        res = fit_pac89(df, initial=st)
+        t_fit += time.perf_counter() - t0
+        ok_fd += _worst_pct(c) < 1.0
+        ok_fit += _worst_pct(res.values) < 1.0
+        rm_fd.append(_rmse(c, df))
+        rm_fit.append(_rmse(res.values, df))
+    return measurement(f"fit_pac89 from {len(GENERIC_STARTS)} textbook starts, {len(df)} points", t_fit,
+                       "plain FD least_squares from the same starts", t_fd, points=len(df),
+                       succeeded=ok_fit, baseline_succeeded=ok_fd, rmse_N=rm_fit, baseline_rmse_N=rm_fd)
+
+
 def run() -> dict:
     from tyrefit.fitting import fit_pac89
     from tyrefit.fitting._blas import single_threaded_blas
@@ -118,6 +158,8 @@ def run() -> dict:
                                "same solve, jac='2-point'", t_2p, points=npts,
                                rmse_N=_rmse(prob.coeffs_of(r_an.x), df), baseline_rmse_N=_rmse(prob.coeffs_of(r_2p.x), df),
                                nfev=int(r_an.nfev), baseline_nfev=int(r_2p.nfev)))
+        if label == "3k":
+            out.append(_robustness(df, fit_pac89, single_threaded_blas))
         info["sizes"][label] = {"points": npts, "fit_seconds": t_fit, "fd_seconds": t_fd,
                                 "ratio_fd_over_fit": t_fd / t_fit if t_fit > 0 else math.nan,
                                 "rmse_fit_N": rm_fit, "rmse_fd_N": rm_fd}
