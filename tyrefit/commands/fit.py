@@ -13,7 +13,6 @@ the latter and the report shows both.
 from __future__ import annotations
 
 import inspect
-import math
 import warnings
 from pathlib import Path
 
