@@ -326,3 +326,20 @@ def test_bundled_passenger_tyre_recovers_its_hidden_truth():
     for k in ("a1", "a5", "a8", "a11", "a13", "pressure_ky", "pressure_mu"):
         assert v[k] == pytest.approx(passenger.TRUTH[k], rel=0.15), k
     assert dg.final.rmse_heldout < 1.15 * 26.0  # about the total noise of the generator
+
+
+def test_too_few_sweeps_is_not_testable_rather_than_not_significant():
+    case = make_case(("camber",), "iid", seed=1, grid=rig_grid(loads=(4000.0,), pressures=(220e3,)))
+    dg = diagnose(case.data, seed=1)
+    assert dg.accepted == []
+    assert all(c.status == "not testable with these data" for c in dg.candidates.values())
+    assert "only 3 sweeps" in dg.candidates["camber"].reason
+    assert dg.unexplained["summary"].startswith("cannot be checked")
+
+
+def test_single_load_level_fixes_the_load_law():
+    grid = rig_grid(loads=(4000.0,), cambers_deg=(-4, -2, 0, 2, 4), pressures=(200e3, 220e3, 240e3))
+    dg = diagnose(make_case(("camber",), "iid", seed=1, grid=grid).data, seed=1)
+    assert "a4" not in dg.final.spec.names and dg.final.fit.values["a4"] == pytest.approx(8.0, rel=0.01)
+    assert dg.accepted == ["camber"]
+    assert dg.candidates["load_friction"].status == "not testable with these data"

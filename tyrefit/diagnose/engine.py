@@ -275,6 +275,12 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
     data = prepare(ds, rated_load=rated_load, max_points_per_sweep=s.max_points_per_sweep)
     start_ids = parse_effects(start)
     testable = {eid: e.why_not_testable(data.summary) for eid, e in EFFECTS.items()}
+    # the sweep-flip bootstrap cannot reach significance with too few sweeps: say so, never "not significant"
+    m = max(1, sum(v is None for v in testable.values()))
+    g_min = next(g for g in range(2, 64) if 2.0 ** (1 - g) <= s.alpha / m)
+    if data.n_sweeps < g_min:
+        testable = {eid: (v or f"only {data.n_sweeps} sweeps: the sweep-robust test needs >= {g_min} sweeps "
+                                f"to show any effect at the {s.alpha:g} level") for eid, v in testable.items()}
     for eid in start_ids:
         if testable[eid] is not None:
             raise DataError(f"start effect {eid!r} cannot be fitted to these data: {testable[eid]}")
@@ -492,6 +498,11 @@ def _unexplained(eng: _Engine, step: Step, floor: float, s: Settings) -> dict:
             f"{b['slip_deg'][0]:.1f} to {b['slip_deg'][1]:.1f} deg (mean residual {b['mean_N']:.0f} N)"
             for b in flagged_bins[:3]))
     found = t.p_value < s.alpha
+    if 2.0 ** (1 - eng.G) > s.alpha:
+        text = (f"cannot be checked: only {eng.G} sweeps, too few for a sweep-robust test"
+                + ("; largest local errors: " + "; ".join(where) if where else ""))
+        return {"p_value": t.p_value, "directions": int(q), "structure_found": False, "where": where,
+                "summary": text, "cells": rows[:10], "slip_bins": bins}
     if found:
         text = (f"structure remains (omnibus cluster score test p = {t.p_value:.3g}): "
                 + ("; ".join(where) if where else "spread thinly over slip and load; no single cell stands out"))
