@@ -505,14 +505,14 @@ class _Problem:
         J = J * (self.w * self.inv_fz)[:, None]
         return J @ self.T[self.used_idx, :]
 
-    def solve(self, theta0, *, loss="linear", f_scale=1.0, max_nfev=None):
+    def solve(self, theta0, *, loss="linear", f_scale=1.0, max_nfev=None, tol=1e-9):
         if len(theta0) == 0:
             return theta0, 0
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             r = least_squares(self.residual, theta0, jac=self.jac, bounds=(self.lb, self.ub), method=self.method,
                               x_scale="jac", loss=loss, f_scale=f_scale, max_nfev=max_nfev or 200 * (len(theta0) + 1),
-                              ftol=1e-9, xtol=1e-9, gtol=1e-9)
+                              ftol=tol, xtol=tol, gtol=tol)
         return r.x, int(r.nfev)
 
     def objective(self, theta) -> float:
@@ -627,11 +627,11 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
         start = {k: (c0[k] if k in fixed or k not in want else v) for k, v in start.items()}
         # stage 1: C, D law, BCD law; E and the rest held
         p1 = _Problem(d, start, core, "l2")
-        th1, n1 = p1.solve(p1.theta_of(start))
+        th1, n1 = p1.solve(p1.theta_of(start), tol=1e-5)  # only a start for stage 2
         c1 = dict(start, **p1.coeffs_of(th1)) if core else dict(start)
         # stage 2: everything that varies
         p2 = _Problem(d, c1, want, "l2")
-        th2, n2 = p2.solve(p2.theta_of(c1))
+        th2, n2 = p2.solve(p2.theta_of(c1), tol=1e-6)  # coarse: the best is polished below
         obj = p2.objective(th2)
         nfev_total += n1 + n2
         cs = p2.coeffs_of(th2)
@@ -640,6 +640,10 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
         if best is None or obj < best[0]:
             best = (obj, p2, th2)
     _, prob, theta = best
+    if len(theta):
+        theta, n_pol = prob.solve(theta, tol=1e-9)
+        nfev_total += n_pol
+        best = (prob.objective(theta), prob, theta)
     # distinct minima of nearly the same cost: C and E are only weakly determined by these data
     C_key = spec.core[0]
     c_best = prob.coeffs_of(theta)[C_key]
