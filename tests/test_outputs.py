@@ -52,3 +52,12 @@ def test_staged_dir_swaps_in_only_on_success(tmp_path):
         (tmp / "index.html").write_text("v2")
     assert (d / "index.html").read_text() == "v2"
     assert sorted(x.name for x in tmp_path.iterdir()) == ["report"]
+
+
+def test_written_files_get_the_usual_mode(tmp_path):
+    import os
+
+    p = write_text(tmp_path / "mode.txt", "x")
+    mask = os.umask(0)
+    os.umask(mask)
+    assert p.stat().st_mode & 0o777 == 0o666 & ~mask

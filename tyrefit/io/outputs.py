@@ -18,6 +18,12 @@ from pathlib import Path
 
 from ..errors import OutputExistsError
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 __all__ = ["check_output", "atomic_write", "write_text", "write_bytes", "staged_dir"]
 
 
@@ -44,6 +50,7 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", force: bool = False, 
     try:
         with os.fdopen(fd, mode, **kw) as fh:
             yield fh
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode of a new file
         os.replace(tmp, p)
     except BaseException:
         with contextlib.suppress(OSError):
