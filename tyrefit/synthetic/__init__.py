@@ -16,4 +16,5 @@ GENERATORS = {
     "passenger": "tyrefit.synthetic.passenger",
     "sim": "tyrefit.synthetic.vehicle_tyres",
     "slip": "tyrefit.synthetic.slip",
+    "brush": "tyrefit.synthetic.camber_brush",
 }
