@@ -189,6 +189,18 @@ def test_diagnose_finds_camber_and_reports_every_effect(camber_dg):
     assert dg.unexplained["summary"]
 
 
+def test_diagnosis_plots(camber_dg):
+    import matplotlib.pyplot as plt
+
+    assert camber_dg.plot_waterfall().get_ylabel() == "lateral force RMSE [N]"
+    assert camber_dg.plot_even_odd().get_yscale() == "log"
+    assert len(camber_dg.plot_residual_maps().axes) == 2 * 6 + 1  # two rows of six facets + colour bar
+    assert camber_dg.plot_signature(camber_dg.accepted[0]).get_xlabel() == "camber [deg]"
+    with pytest.raises(KeyError, match="not accepted"):
+        camber_dg.plot_signature("speed")
+    plt.close("all")
+
+
 def test_diagnose_json_keys(camber_dg):
     d = json.loads(camber_dg.to_json())
     assert {"start", "accepted", "noise_floor", "steps", "candidates"} <= set(d)

@@ -141,7 +141,6 @@ class _Engine:
         cells = data.sweep_cells()
         self.folds = sweep_folds(cells, settings.n_folds, self.rng)
         self.lfolds = level_folds({f: data.sweep_level(f) for f in data.levels}, data.levels)
-        self.point_fold = np.empty(data.n, dtype=int)
         sweep_fold = np.empty(self.G, dtype=int)
         for k, f in enumerate(self.folds):
             sweep_fold[f] = k

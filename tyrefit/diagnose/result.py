@@ -77,7 +77,6 @@ class Diagnosis:
         """RMSE and bias [N] per condition cell (load x camber x pressure x speed) for a step."""
         st = self.steps[step] if isinstance(step, int) else step
         d = self.data
-        x = d.inputs
         r = st.fit.resid
         df = pd.DataFrame({"cell": d.cell, "fz": d.levels["fz"][d.level_index["fz"]],
                            "camber": d.levels["camber"][d.level_index["camber"]], "r": r})
@@ -95,7 +94,6 @@ class Diagnosis:
             out.insert(2, "pressure_kPa", out.pop("pressure") / 1e3)
         if "speed" in out:
             out.insert(3, "speed_kmh", out.pop("speed") * 3.6)
-        del x
         return out
 
     def to_dict(self) -> dict:
@@ -143,7 +141,7 @@ class Diagnosis:
 
     def summary(self) -> str:
         """A few lines for the terminal."""
-        lines = [f"start model: base PAC89" + (" + " + ", ".join(self.start) if self.start else ""),
+        lines = ["start model: base PAC89" + (" + " + ", ".join(self.start) if self.start else ""),
                  f"noise floor (within-sweep): {self.noise_floor:.1f} N"]
         for s in self.steps:
             lines.append(f"  {'+ ' + s.added if s.added else 'start':<28} RMSE {s.rmse:8.1f} N   "
@@ -154,6 +152,33 @@ class Diagnosis:
 
     def family_of(self, effect_id: str) -> str:
         return get_effect(effect_id).family
+
+    # -- views (see tyrefit.diagnose.views) -------------------------------------------
+    def plot_waterfall(self, ax=None):
+        """RMSE and held-out RMSE [N] per step against the noise floor; returns the Axes."""
+        from .views import plot_waterfall
+
+        return plot_waterfall(self, ax=ax)
+
+    def plot_residual_maps(self, fig=None):
+        """Residual maps over slip and load, faceted by camber and pressure, start vs final; returns the Figure."""
+        from .views import plot_residual_maps
+
+        return plot_residual_maps(self, fig=fig)
+
+    def plot_even_odd(self, ax=None):
+        """Even and odd residual parts per sweep, start vs final; returns the Axes."""
+        from .views import plot_even_odd
+
+        return plot_even_odd(self, ax=ax)
+
+    def plot_signature(self, effect_id: str, ax=None):
+        """Signature view of an accepted effect (data, model without and with it); returns the Axes."""
+        from .views import signature_view
+
+        if effect_id not in self.accepted:
+            raise KeyError(f"{effect_id!r} was not accepted; accepted: {', '.join(self.accepted) or 'none'}")
+        return get_effect(effect_id).plot_signature(signature_view(self, effect_id), ax=ax)
 
 
 def _num(x):
