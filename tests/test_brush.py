@@ -101,7 +101,7 @@ def test_original_model_camber_stiffness_is_2a3k_over_3re():
     assert_allclose(bm.camber_stiffness(st), kyg, rtol=1e-12)
     g = 1e-5
     fy = bm.brush_forces(P, P.fz_ref, 0.0, 0.0, g).fy
-    assert_allclose(fy / np.sin(g), -kyg, rtol=1e-4)
+    assert_allclose(fy / np.sin(g), -kyg, rtol=1e-6)
     a = 1e-6
     fy = bm.brush_forces(P, P.fz_ref, 0.0, a, 0.0).fy
     assert_allclose(fy / np.tan(a), -ky, rtol=1e-4)

@@ -10,20 +10,26 @@ experiment:
 
 1. the *true* vehicle (:func:`simulate_truth`) drives on a road of known mu
    with improved-model tyres (:func:`tyrefit.models.brush.camber_brush_forces`,
-   2N = 16 strips): a sinusoidal steer with slip-controlled braking, which
-   keeps every tyre in its partly sliding range where the forces depend on
-   mu (in the linear range they do not, and mu is unobservable);
-2. the measurements ``[a_x, a_y, Gamma]`` (Eq. 37) get Gaussian noise;
+   2N = 16 strips): a sinusoidal steer with slip-controlled braking whose
+   slip each wheel cycles at its own frequency (as an ABS does), which keeps
+   every tyre in its partly sliding range where the forces depend on mu (in
+   the linear range they do not, and mu is unobservable) and makes the four
+   mu separable with three measurements;
+2. the measurements ``[a_x, a_y, Gamma]`` (Eq. 37), sampled at 250 Hz, get
+   Gaussian noise (0.05 m/s^2, 0.05 m/s^2, 40 N m by default);
 3. an EKF (:class:`AdhesionEKF`) with the parameter vector
    ``[mu_fl, mu_fr, mu_rl, mu_rr]`` as a random walk (Eq. 37-40) estimates mu,
-   once with the improved model (2N = 8 strips: coarser than the truth) and
+   once with the improved model (2N = 12 strips: coarser than the truth) and
    once with the original camber brush model, whose parameters are
    calibrated on zero-camber forces of the same tyre
    (:func:`tyrefit.models.brush_fit.calibrate_original`): the two agree
    without camber and differ as camber grows (the paper's Fig. 16-17).
 
 The EKF knows the vehicle states (speeds, yaw rate, wheel spins, steer), as
-in the paper; its loads come from the measured accelerations.  The
+in the paper; its loads come from the measured accelerations; it starts
+from mu = 0.5 on both roads.  Its random walk is large at first and decays
+(``q`` to ``q_final``), so that it leaves a poor start quickly and then
+averages the noise.  The
 Jacobian (Eq. 38-40) is ``H = D dF/dmu``: D, the derivative of the
 measurement with respect to the eight tyre forces, is exact
 (:func:`tyrefit.sim.vehicle7dof.measurement_matrix`); dF/dmu of each tyre is
