@@ -1,0 +1,260 @@
+"""Tyres as the vehicle simulation sees them: one axle at its static load.
+
+Seed 000's bicycle model evaluates each axle's tyre curves at the static axle
+load (no load transfer, Eq. 8-9): F_x,i = eta F_z,i M_x,i(lambda_i) and
+F_y,i = eta F_z,i M_y,i(alpha_i).  With fitted PAC89 tyres the curves come
+from the ``.tir`` at that load.  :class:`AxleTyre` tabulates the axle's two
+tyres once (a left tyre and its mirror image on the right, so conicity and
+ply-steer offsets cancel as on a real axle) on dense slip grids and
+interpolates, which keeps the time loop fast and the ISO-W <-> PAC89 mapping
+where it lives (:mod:`tyrefit.models.pac89`).
+
+Also here: the bundled default tyres of ``tyrefit sim`` (hard front, soft
+rear) and :func:`fit_vehicle_tyres`, which makes them from the bundled
+synthetic data with the package's fitter.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import DataError, ModelError
+from ..tyre import Pac89Tyre
+
+try:  # the compiled routine behind np.interp, without its Python-level checks (hot loop)
+    from numpy._core.multiarray import interp as _interp
+except ImportError:  # pragma: no cover - older NumPy
+    try:
+        from numpy.core.multiarray import interp as _interp
+    except ImportError:
+        _interp = np.interp
+
+__all__ = [
+    "AxleTyre",
+    "load_tyre",
+    "default_tyres",
+    "fit_vehicle_tyres",
+    "DEFAULT_FRONT",
+    "DEFAULT_REAR",
+]
+
+#: bundled default tyre files in ``data/sim/`` (front: hard low-wear, rear: soft)
+DEFAULT_FRONT = "hard_front.tir"
+DEFAULT_REAR = "soft_rear.tir"
+
+
+def _grid(limit: float, n: int, c: float = 5.0) -> np.ndarray:
+    """Symmetric grid on [-limit, limit], dense near zero (sinh spacing)."""
+    u = np.linspace(-1.0, 1.0, n)
+    return limit * np.sinh(c * u) / math.sinh(c)
+
+
+@dataclass
+class AxleTyre:
+    """The tyres of one axle at a fixed (static) load, tabulated.
+
+    Parameters
+    ----------
+    tyre : Pac89Tyre
+        The (left) tyre; the right one is its mirror image.
+    fz : float
+        Load per tyre [N].
+    n_tyres : int
+        Tyres on the axle (2: left + mirrored right).
+    n_points : int
+        Table size per curve.
+
+    Notes
+    -----
+    Forces are axle totals for condition eta = 1; the vehicle multiplies them
+    by eta (seed 000 Eq. 8-9), which scales the curve without moving its peak.
+    """
+
+    tyre: Pac89Tyre
+    fz: float
+    n_tyres: int = 2
+    n_points: int = 6001
+    slip_ratio_grid: np.ndarray = field(init=False, repr=False)
+    slip_angle_grid: np.ndarray = field(init=False, repr=False)
+    fx_table: np.ndarray = field(init=False, repr=False)
+    fy_table: np.ndarray = field(init=False, repr=False)
+    dfx_table: np.ndarray = field(init=False, repr=False)
+    dfy_table: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if not self.tyre.has_longitudinal:
+            raise ModelError(f"tyre {self.tyre.name!r} has no longitudinal coefficients (b0..b10); the vehicle "
+                             "simulation needs Fx: fit it with slip-ratio data")
+        if not (self.fz > 0):
+            raise ModelError(f"axle load per tyre must be positive, got {self.fz!r} N")
+        self.slip_ratio_grid = _grid(1.0, self.n_points)
+        self.slip_angle_grid = _grid(1.2, self.n_points)
+        left, right = self.tyre, self.tyre.mirrored()
+        half = self.n_tyres / 2.0
+        fz = float(self.fz)
+        self.fx_table = half * (np.asarray(left.fx(fz, self.slip_ratio_grid))
+                                + np.asarray(right.fx(fz, self.slip_ratio_grid)))
+        self.fy_table = half * (np.asarray(left.fy(fz, self.slip_angle_grid))
+                                + np.asarray(right.fy(fz, self.slip_angle_grid)))
+        self.dfx_table = np.gradient(self.fx_table, self.slip_ratio_grid)
+        self.dfy_table = np.gradient(self.fy_table, self.slip_angle_grid)
+        i = int(np.argmax(self.fx_table))
+        j = int(np.argmin(self.fx_table))
+        self._peak_drive = (float(self.slip_ratio_grid[i]), float(self.fx_table[i]))
+        self._peak_brake = (float(self.slip_ratio_grid[j]), float(self.fx_table[j]))
+        # lateral: the stable branch between the two peaks (Fy falls with alpha in ISO-W), increasing in Fy
+        ia, ib = int(np.argmax(self.fy_table)), int(np.argmin(self.fy_table))
+        lo, hi = min(ia, ib), max(ia, ib)
+        fy_b, a_b = self.fy_table[lo:hi + 1][::-1], self.slip_angle_grid[lo:hi + 1][::-1]
+        keep = np.concatenate([[True], np.diff(fy_b) > 0])
+        self._inv_fy, self._inv_a = fy_b[keep], a_b[keep]
+        # the stable (monotone) branch between the braking and driving peaks, for inversion
+        self._inv_f = self.fx_table[j:i + 1]
+        self._inv_s = self.slip_ratio_grid[j:i + 1]
+        if np.any(np.diff(self._inv_f) <= 0):
+            keep = np.concatenate([[True], np.diff(self._inv_f) > 0])
+            self._inv_f, self._inv_s = self._inv_f[keep], self._inv_s[keep]
+
+    # -- curves (axle totals, eta = 1) -------------------------------------------
+    def fx(self, slip_ratio):
+        """Axle longitudinal force [N] at slip ratio [-] (driving positive)."""
+        return _interp(slip_ratio, self.slip_ratio_grid, self.fx_table)
+
+    def fy(self, slip_angle):
+        """Axle lateral force [N] at ISO-W slip angle [rad] (positive angle -> negative force)."""
+        return _interp(slip_angle, self.slip_angle_grid, self.fy_table)
+
+    def slip_stiffness(self, slip_ratio):
+        """dFx/d(slip ratio) [N] of the axle."""
+        return _interp(slip_ratio, self.slip_ratio_grid, self.dfx_table)
+
+    def cornering_stiffness(self, slip_angle=0.0):
+        """-dFy/d(slip angle) [N/rad] of the axle (positive for a normal tyre)."""
+        return -_interp(slip_angle, self.slip_angle_grid, self.dfy_table)
+
+    @property
+    def peak_drive(self) -> tuple[float, float]:
+        """(slip ratio, axle force [N]) at the driving peak."""
+        return self._peak_drive
+
+    @property
+    def peak_brake(self) -> tuple[float, float]:
+        """(slip ratio, axle force [N]) at the braking peak (both negative)."""
+        return self._peak_brake
+
+    @property
+    def mu_peak(self) -> float:
+        """Peak longitudinal friction coefficient (mean of driving and braking peaks) [-]."""
+        return 0.5 * (self._peak_drive[1] - self._peak_brake[1]) / (self.n_tyres * self.fz)
+
+    @property
+    def mu_y_peak(self) -> float:
+        """Peak lateral friction coefficient [-]."""
+        return float(np.max(np.abs(self.fy_table))) / (self.n_tyres * self.fz)
+
+    def slip_angle_for_force(self, force):
+        """ISO-W slip angle [rad] on the stable branch that gives axle lateral force ``force`` [N] (eta = 1).
+
+        Forces beyond the peaks give the slip angle of the peak.
+        """
+        return _interp(force, self._inv_fy, self._inv_a)
+
+    def slip_for_force(self, force):
+        """Slip ratio on the stable branch that gives axle force ``force`` [N] (eta = 1); clipped to the peaks."""
+        return _interp(force, self._inv_f, self._inv_s)
+
+    def slip_for_mu_share(self, share: float) -> tuple[float, float]:
+        """Slip ratios (braking, driving) on the rising branch where |Fx| = share x its peak (Eq. 49-50)."""
+        if not 0.0 < share <= 1.0:
+            raise ModelError(f"peak share must be in (0, 1], got {share!r}")
+        lo = float(np.interp(share * self._peak_brake[1], self._inv_f, self._inv_s))
+        hi = float(np.interp(share * self._peak_drive[1], self._inv_f, self._inv_s))
+        return lo, hi
+
+
+# ------------------------------------------------------------------------------ files
+
+def load_tyre(path: str | os.PathLike) -> Pac89Tyre:
+    """Read a PAC89 ``.tir`` (or Chrono JSON) for the simulation; it must have Fx and Fy."""
+    p = Path(path)
+    if not p.exists():
+        raise DataError(f"{p}: tyre file not found")
+    tyre = Pac89Tyre.from_file(p)
+    if not tyre.has_longitudinal:
+        raise ModelError(f"{p}: the tyre has no longitudinal coefficients (b0..b10 are zero); the vehicle "
+                         "simulation needs Fx: fit it with slip-ratio data")
+    return tyre
+
+
+def default_tyres() -> tuple[Pac89Tyre, Pac89Tyre]:
+    """The bundled (front, rear) = (hard, soft) tyres of ``tyrefit sim`` (``data/sim/*.tir``).
+
+    They are PAC89 fits of the bundled synthetic data by the package's fitter
+    (:func:`fit_vehicle_tyres`); each file's header records how it was made.
+    """
+    from ..datasets import data_path
+
+    return load_tyre(data_path("sim", DEFAULT_FRONT)), load_tyre(data_path("sim", DEFAULT_REAR))
+
+
+def fit_vehicle_tyres(data_dir: str | os.PathLike, out_dir: str | os.PathLike,
+                      force: bool = False) -> dict[str, Path]:
+    """Fit the soft and hard tyres from their slip-angle and slip-ratio CSVs; write ``.tir`` files.
+
+    Reads ``{soft,hard}_{lateral,longitudinal}.csv`` in ``data_dir``, fits each
+    with :func:`tyrefit.fitting.fit_pac89` (lateral coefficients from the
+    slip-angle sweeps, longitudinal from the slip-ratio sweeps) and writes
+    ``hard_front.tir`` and ``soft_rear.tir`` to ``out_dir``.
+
+    Returns
+    -------
+    dict
+        ``{'front': path, 'rear': path}``.
+    """
+    from ..fitting import fit_pac89
+    from ..io.readers import read_data
+
+    from ..io.outputs import check_output
+
+    data_dir, out_dir = Path(data_dir), Path(out_dir)
+    targets = {"front": out_dir / DEFAULT_FRONT, "rear": out_dir / DEFAULT_REAR}
+    for p in targets.values():
+        check_output(p, force)
+    out = {}
+    for role, which in (("front", "hard"), ("rear", "soft")):
+        info = dict(_DESIGN[which])
+        lat_path = data_dir / f"{which}_lateral.csv"
+        lon_path = data_dir / f"{which}_longitudinal.csv"
+        lat = fit_pac89(read_data(lat_path), tyre_info=info).tyre
+        lon = fit_pac89(read_data(lon_path), tyre_info=info).tyre
+        coeffs = dict(lat.coefficients)
+        coeffs.update({k: v for k, v in lon.coefficients.items() if k.startswith("b")})
+        ranges = dict(lat.ranges)
+        if "slip_ratio" in lon.ranges:
+            ranges["slip_ratio"] = lon.ranges["slip_ratio"]
+        header = [f"{info['name']}: {'front (hard, low-wear)' if role == 'front' else 'rear (soft)'} tyre "
+                  "of tyrefit sim",
+                  f"lateral a0-a13: tyrefit.fitting.fit_pac89 on {lat_path.name}",
+                  f"longitudinal b0-b10: tyrefit.fitting.fit_pac89 on {lon_path.name}",
+                  "data: SYNTHETIC, generated by tyrefit.synthetic.vehicle_tyres"]
+        for h in list(lat.header or []) + list(lon.header or []):
+            if h and h not in header and not h.startswith(info["name"]):
+                header.append(h)
+        tyre = Pac89Tyre(coefficients=coeffs, unloaded_radius=info["unloaded_radius"], width=info["width"],
+                         fnomin=info["fnomin"], ranges=ranges, header=header, name=info["name"])
+        out[role] = tyre.to_tir(targets[role], force=force)
+    return out
+
+
+#: design data of the two synthetic tyres (sizes of seed 000's MATLAB tyres)
+_DESIGN = {
+    "soft": {"name": "tyrefit soft 235/45R18 (synthetic data)", "unloaded_radius": 0.3344, "width": 0.235,
+             "fnomin": 6573.0},
+    "hard": {"name": "tyrefit hard 205/60R15 (synthetic data)", "unloaded_radius": 0.3135, "width": 0.205,
+             "fnomin": 6031.0},
+}
