@@ -71,7 +71,7 @@ def plot_waterfall(diagnosis, ax=None):
     if ax is None:
         _, ax = plt.subplots(figsize=(6.5, 3.6))
     steps = diagnosis.steps
-    labels = ["start\n" + ("+".join(diagnosis.start) or "base PAC89")] + [f"+ {s.added}" for s in steps[1:]]
+    labels = ["start\n" + ("+".join(diagnosis.start) or "base PAC89")] + [f"+\n{s.added}" for s in steps[1:]]
     x = np.arange(len(steps))
     ax.bar(x - 0.18, [s.rmse for s in steps], 0.36, label="RMSE (all sweeps)", color="#4c78a8")
     ax.bar(x + 0.18, [s.rmse_heldout for s in steps], 0.36, label="RMSE (held-out sweeps)", color="#f58518")
@@ -93,7 +93,7 @@ def facets(data, max_facets: int = 6) -> list[tuple[int, int | None]]:
     def pick(n, k):
         if n <= k:
             return list(range(n))
-        return sorted({0, n // 2, n - 1})
+        return [0, n - 1] if k == 2 else sorted({0, n // 2, n - 1})
 
     cs = pick(nc, 3 if npr > 1 else max_facets)
     ps = pick(npr, 2 if nc > 1 else max_facets)
