@@ -110,6 +110,25 @@ def test_batch_fit_local_processes_recovers_every_tyre(tmp_path, db):
     assert rec["status"] == "ok" and rec["points"] == 200 and rec["time_s"] > 0
 
 
+def test_worker_processes_start_safely_when_the_caller_has_threads(tmp_path, db):
+    """With a second thread alive the pool must not fork this process (forkserver instead)."""
+    import threading
+
+    from tyrefit import batch
+
+    stop = threading.Event()
+    t = threading.Thread(target=stop.wait, daemon=True)
+    t.start()
+    try:
+        assert batch._pool_context().get_start_method() != "fork"
+        res = batch_fit(db.paths[:2], tmp_path / "out", workers=2, progress=False, summary=False)
+    finally:
+        stop.set()
+        t.join()
+    assert res.n_ok == 2
+    _assert_within_truth(tmp_path / "out", {p.stem: db.truth[p.stem] for p in db.paths[:2]})
+
+
 def test_resume_skips_up_to_date_refits_stale_and_force_refits_all(tmp_path, db):
     src = tmp_path / "db"
     src.mkdir()

@@ -21,11 +21,11 @@ path and a small dict of numbers crosses a process boundary.
   of ``workers`` processes (default: the CPUs this process may use).  It is
   in the standard library, so Dask stays an optional dependency
   (``pip install tyrefit[dask]``), and it adds no task-graph overhead to tasks
-  that last a fraction of a second.  On POSIX the pool uses the
-  ``forkserver`` start method with tyrefit's reading and fitting modules
-  preloaded: the imports (NumPy, pandas, SciPy, lmfit) happen once in the
-  fork server and every worker starts warm, without the fork-with-threads
-  hazards of plain ``fork``.  ``workers=1`` runs in this process.
+  that last a fraction of a second.  Workers start warm: the reading and
+  fitting modules (NumPy, pandas, SciPy, lmfit) are imported once, then the
+  workers are forked (Linux, single-threaded caller) or started from a fork
+  server that preloaded them (see :func:`_pool_context`).  ``workers=1``
+  runs in this process.
 * ``scheduler='tcp://host:8786'`` (or a ``distributed.Client``): the same
   task function is mapped over the paths on that Dask cluster; imports are
   warmed once per worker with ``Client.run``.  Workers must see the same
@@ -372,40 +372,62 @@ def _default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def _run_serial(tasks, bar):
+def _run_serial(tasks, progress: bool):
     _warm_imports()
     out = []
-    for t in tasks:
-        out.append(_fit_task(t))
-        bar.update(1)
+    with _progress(len(tasks), progress, "batch fit") as bar:
+        for t in tasks:
+            out.append(_fit_task(t))
+            bar.update(1)
     return out
 
 
 def _pool_context():
-    import multiprocessing as mp
+    """``fork`` from a single-threaded process on Linux, else ``forkserver`` (POSIX) or ``spawn``.
 
-    if sys.platform != "win32" and "forkserver" in mp.get_all_start_methods():
+    ``fork`` starts workers at once with everything this process imported
+    (the worker modules are imported here first).  It is used only while
+    this process runs a single Python thread, where forking is safe; with
+    threads (a Dask client, a GUI, a notebook kernel) the ``forkserver``
+    (worker modules preloaded once) is used instead.  Like ``spawn``, it
+    re-imports the calling script in each worker, so scripts that call
+    :func:`batch_fit` from there need the ``if __name__ == "__main__":`` guard.
+    """
+    import multiprocessing as mp
+    import threading
+
+    methods = mp.get_all_start_methods()
+    if sys.platform.startswith("linux") and "fork" in methods and threading.active_count() == 1:
+        _warm_imports()
+        return mp.get_context("fork")
+    if sys.platform != "win32" and "forkserver" in methods:
         ctx = mp.get_context("forkserver")
         ctx.set_forkserver_preload(list(_WARM_MODULES))
         return ctx
     return mp.get_context("spawn")
 
 
-def _run_processes(tasks, workers: int, bar):
+def _run_processes(tasks, workers: int, progress: bool):
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
     out = []
-    with ProcessPoolExecutor(max_workers=workers, mp_context=_pool_context(),
-                             initializer=_warm_imports) as ex:
+    ex = ProcessPoolExecutor(max_workers=workers, mp_context=_pool_context(), initializer=_warm_imports)
+    try:
+        # submit (which starts the workers) before the progress bar starts its monitor thread
         futs = {ex.submit(_fit_task, t): t for t in tasks}
-        for fut in as_completed(futs):
-            try:
-                rec = fut.result()
-            except BrokenProcessPool as exc:  # a worker died (out of memory, killed)
-                rec = _lost(futs[fut], exc)
-            out.append(rec)
-            bar.update(1)
+        with _progress(len(tasks), progress, "batch fit") as bar:
+            for fut in as_completed(futs):
+                try:
+                    rec = fut.result()
+                except BrokenProcessPool as exc:  # a worker died (out of memory, killed)
+                    rec = _lost(futs[fut], exc)
+                out.append(rec)
+                bar.update(1)
+    except BaseException:  # Ctrl-C: drop the queue, do not wait for it (finished tyres keep their records)
+        ex.shutdown(wait=False, cancel_futures=True)
+        raise
+    ex.shutdown(wait=True)
     return out
 
 
@@ -430,7 +452,7 @@ def _dask_client(scheduler):
                         "address as tcp://host:8786") from None
 
 
-def _run_dask(tasks, client, bar):
+def _run_dask(tasks, client, progress: bool):
     from distributed import as_completed
 
     try:
@@ -441,14 +463,19 @@ def _run_dask(tasks, client, bar):
                                                           for t in tasks])
     index = {f.key: t for f, t in zip(futs, tasks)}
     out = []
-    for fut in as_completed(futs, loop=client.loop):
-        try:
-            rec = fut.result()
-        except Exception as exc:  # noqa: BLE001 - KilledWorker, lost connection, ...
-            rec = _lost(index[fut.key], exc)
-        out.append(rec)
-        bar.update(1)
-        fut.release()
+    try:
+        with _progress(len(tasks), progress, "batch fit") as bar:
+            for fut in as_completed(futs, loop=client.loop):
+                try:
+                    rec = fut.result()
+                except Exception as exc:  # noqa: BLE001 - KilledWorker, lost connection, ...
+                    rec = _lost(index[fut.key], exc)
+                out.append(rec)
+                bar.update(1)
+                fut.release()
+    except BaseException:
+        client.cancel(futs)
+        raise
     return out
 
 
@@ -514,15 +541,14 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
         n = min(int(workers) if workers else _default_workers(), max(len(tasks), 1))
         backend = "serial" if n <= 1 else f"processes({n})"
     try:
-        with _progress(len(tasks), progress, "batch fit") as bar:
-            if not tasks:
-                pass
-            elif client is not None:
-                records += _run_dask(tasks, client, bar)
-            elif backend == "serial":
-                records += _run_serial(tasks, bar)
-            else:
-                records += _run_processes(tasks, n, bar)
+        if not tasks:
+            pass
+        elif client is not None:
+            records += _run_dask(tasks, client, progress)
+        elif backend == "serial":
+            records += _run_serial(tasks, progress)
+        else:
+            records += _run_processes(tasks, n, progress)
     finally:
         if own_client:
             client.close()
