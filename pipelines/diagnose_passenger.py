@@ -1,0 +1,46 @@
+"""Diagnose the bundled passenger tyre, then fit the effects it found.
+
+The whole loop of issue 5 on ``data/passenger``: ``tyrefit diagnose`` finds
+where the base PAC89 model fails and which physical effects are missing, and
+``tyrefit fit --effects`` adds the accepted ones that PAC89 can hold and
+writes the ``.tir`` with its before/after report.  No logic of its own.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from tyrefit.cli import main as tyrefit
+from tyrefit.datasets import data_path
+
+RATED_LOAD_N = 6031.0  # load index 91 (data/passenger/README.md)
+
+
+def _run(argv: list[str]) -> None:
+    code = tyrefit(argv + ["--force"])
+    if code != 0:
+        raise RuntimeError(f"tyrefit {argv[0]} exited {code}")
+
+
+def main(out_dir: str | Path = "reports/diagnose_passenger") -> dict:
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    data = str(data_path("passenger", "passenger_205_55R16.csv"))
+    _run(["diagnose", data, "--rated-load", str(RATED_LOAD_N), "--json", str(out / "diagnose.json"),
+          "--report", str(out)])
+    diag = json.loads((out / "diagnose.json").read_text())
+    accepted = diag["accepted"]
+    if accepted:
+        _run(["fit", data, "--effects", ",".join(accepted), "--rated-load", str(RATED_LOAD_N),
+              "--out", str(out / "passenger.tir"), "--report", str(out / "fit_with_effects")])
+    steps = diag["steps"]
+    return {"headline": f"accepted {', '.join(accepted) or 'nothing'}; RMSE {steps[0]['rmse']:.0f} -> "
+                        f"{steps[-1]['rmse']:.0f} N (held-out {steps[-1]['rmse_heldout']:.0f} N, "
+                        f"noise floor {diag['noise_floor']:.0f} N)",
+            "accepted": accepted}
+
+
+if __name__ == "__main__":
+    print(main(sys.argv[1] if len(sys.argv) > 1 else "reports/diagnose_passenger"))
