@@ -48,6 +48,7 @@ __all__ = [
     "base_forces_from_motion",
     "PeakShareSlipLimit",
     "CharacteristicSlipLimit",
+    "CurveCharacteristicSlipLimit",
     "resolve_slip_limit",
     "AxleLimits",
     "EqualSplit",
@@ -221,6 +222,37 @@ class CharacteristicSlipLimit:
 
     def describe(self) -> str:
         return f"+-{self.slip:.4g} ({self.source}, capped at the slip of peak force)"
+
+
+@dataclass(frozen=True)
+class CurveCharacteristicSlipLimit:
+    """The characteristic slip of seed 002 computed from the axle's own Fx curve.
+
+    Fits mu = mu_p (1 - exp(-k s)) (Ghasemi et al., Eq. 8) to the driving
+    branch of the tyre's Fx/Fz curve up to its peak with
+    :func:`tyrefit.models.slip_fit.fit_friction_slip`, takes s_c (Eq. 16, with
+    curvature ``nu_c``), converts seed 002's slippage s = 1 - v/(r w) to the
+    slip ratio s / (1 - s) and uses it, capped at the slip of peak force, on
+    both sides (:class:`CharacteristicSlipLimit`).
+    """
+
+    nu_c: float = -2.0
+
+    def characteristic_slip(self, axle: AxleTyre) -> float:
+        from ..models.slip_fit import fit_friction_slip
+
+        lam_peak = axle.peak_drive[0]
+        lam = np.linspace(0.0, lam_peak, 60)[1:]
+        s = lam / (1.0 + lam)                                    # slip ratio -> slippage
+        mu = axle.fx(lam) / (axle.n_tyres * axle.fz)
+        sc = fit_friction_slip(s, mu, nu_c=self.nu_c, fz=axle.fz).characteristic_slip
+        return float(sc / (1.0 - sc)) if sc < 1 else float("inf")
+
+    def __call__(self, axle: AxleTyre) -> tuple[float, float]:
+        return CharacteristicSlipLimit(self.characteristic_slip(axle))(axle)
+
+    def describe(self) -> str:
+        return f"characteristic slip of the tyre's own curve (seed 002 Eq. 16, nu_c = {self.nu_c:g}), capped at peak"
 
 
 def resolve_slip_limit(tyre, default=None):

@@ -188,10 +188,11 @@ class DriverLine:
         m = int(np.ceil(length.max() / ds)) + 1
         s = np.linspace(0.0, 1.0, m)[:, None] * length[None, :]
         h = length / (m - 1)
-        kap_c = np.stack([path.curvature(si) for si in s])
         kap_l = np.stack([path.smoothed_curvature(si, window) for si in s])
-        d = kap_l - kap_c
-        psi = np.concatenate([np.zeros((1, s.shape[1])), np.cumsum(0.5 * (d[1:] + d[:-1]), axis=0) * h], axis=0)
+        theta_c = np.stack([path._integral(si) for si in s])             # exact centre-line heading
+        theta_l = np.concatenate([np.zeros((1, s.shape[1])),
+                                  np.cumsum(0.5 * (kap_l[1:] + kap_l[:-1]), axis=0) * h], axis=0)
+        psi = theta_l - theta_c
         n = np.concatenate([np.zeros((1, s.shape[1])), np.cumsum(0.5 * (psi[1:] + psi[:-1]), axis=0) * h], axis=0)
         if speed is None or params is None:
             L = params.wheelbase if params is not None else 2.8

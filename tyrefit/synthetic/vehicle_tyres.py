@@ -11,15 +11,15 @@ so this module makes stand-ins with realistic magnitudes from the documented
 
 Files written by :func:`generate` (each CSV starts with a ``# synthetic:`` line)
 ------------------------------------------------------------------------------
-``soft_lateral.csv``, ``hard_lateral.csv``
-    free-rolling slip-angle sweeps -12..12 deg at 2, 3.5, 5 and 6.5 kN, 2.4 bar,
-    60 km/h, zero camber: ``run``, ``load [N]``, ``pressure [bar]``,
-    ``speed [km/h]``, ``camber [deg]``, ``slip_angle [deg]``, ``fz [N]``,
-    ``fy [N]``.  ISO-W signs: a positive slip angle gives a negative ``fy``.
-``soft_longitudinal.csv``, ``hard_longitudinal.csv``
-    slip-ratio sweeps -0.3..0.3 at the same loads: ``run``, ``load [N]``,
-    ``pressure [bar]``, ``speed [km/h]``, ``slip_ratio [-]``, ``fz [N]``,
-    ``fx [N]`` (driving positive).
+``soft_tyre.csv``, ``hard_tyre.csv``
+    one rig programme per tyre, every channel recorded in every row:
+    ``run``, ``load [N]``, ``pressure [bar]``, ``speed [km/h]``,
+    ``camber [deg]``, ``slip_angle [deg]``, ``slip_ratio [-]``, ``fz [N]``,
+    ``fx [N]``, ``fy [N]``.  Runs 1-4: free-rolling slip-angle sweeps
+    -12..12 deg at 2, 3.5, 5 and 6.5 kN (slip ratio 0); runs 5-8: slip-ratio
+    sweeps -0.3..0.3 at zero slip angle and the same loads; 2.4 bar, 60 km/h,
+    zero camber.  ISO-W signs: a positive slip angle gives a negative ``fy``;
+    ``fx`` is positive driving.  ``tyrefit fit`` fits both parts at once.
 ``braking_utqg.csv``
     a Tire Rack / UTQG style table of 15 tyres: ``name``, ``treadwear [-]``
     (UTQG grade), ``stopping_distance [ft]`` and ``initial_speed [mph]`` (dry
@@ -81,6 +81,7 @@ __all__ = [
     "true_tyre",
     "lateral_table",
     "longitudinal_table",
+    "tyre_table",
     "utqg_table",
     "emission_table",
     "generate",
@@ -163,7 +164,11 @@ def true_tyre(which: str) -> Pac89Tyre:
 
 
 def lateral_table(which: str, rng: np.random.Generator | None = None) -> pd.DataFrame:
-    """Slip-angle sweeps of the soft or hard tyre (ISO-W, display units)."""
+    """Slip-angle sweeps of the soft or hard tyre (ISO-W, display units), runs 1-4.
+
+    Every channel is recorded, as on a rig: ``slip_ratio`` is 0 and ``fx`` the
+    free-rolling longitudinal force (zero plus noise).
+    """
     spec = {"soft": SOFT, "hard": HARD}[which]
     rng = rng or np.random.default_rng(spec["seed"])
     tyre = true_tyre(which)
@@ -172,29 +177,44 @@ def lateral_table(which: str, rng: np.random.Generator | None = None) -> pd.Data
         alpha = np.radians(SLIP_ANGLES_DEG)
         fz = load * (1.0 + LOAD_NOISE * rng.standard_normal(alpha.size))
         clean = tyre.fy(fz, alpha)
-        fy = clean + FORCE_NOISE * np.max(np.abs(clean)) * rng.standard_normal(alpha.size)
+        scale = FORCE_NOISE * np.max(np.abs(clean))
+        fy = clean + scale * rng.standard_normal(alpha.size)
+        fx = scale * rng.standard_normal(alpha.size)
         rows.append(pd.DataFrame({
             "run": run, "load [N]": load, "pressure [bar]": PRESSURE_BAR, "speed [km/h]": SPEED_KMH,
-            "camber [deg]": 0.0, "slip_angle [deg]": SLIP_ANGLES_DEG, "fz [N]": np.round(fz, 1),
-            "fy [N]": np.round(fy, 1)}))
+            "camber [deg]": 0.0, "slip_angle [deg]": SLIP_ANGLES_DEG, "slip_ratio [-]": 0.0,
+            "fz [N]": np.round(fz, 1), "fx [N]": np.round(fx, 1), "fy [N]": np.round(fy, 1)}))
     return pd.concat(rows, ignore_index=True)
 
 
 def longitudinal_table(which: str, rng: np.random.Generator | None = None) -> pd.DataFrame:
-    """Slip-ratio sweeps of the soft or hard tyre (driving positive)."""
+    """Slip-ratio sweeps of the soft or hard tyre at zero slip angle (driving positive), runs 5-8.
+
+    ``fy`` is the lateral force at zero slip angle (the conicity offset) plus noise.
+    """
     spec = {"soft": SOFT, "hard": HARD}[which]
     rng = rng or np.random.default_rng(spec["seed"] + 100)
     tyre = true_tyre(which)
     rows = []
-    for run, load in enumerate(LOADS, 1):
+    for run, load in enumerate(LOADS, len(LOADS) + 1):
         kappa = SLIP_RATIOS
         fz = load * (1.0 + LOAD_NOISE * rng.standard_normal(kappa.size))
         clean = tyre.fx(fz, kappa)
-        fx = clean + FORCE_NOISE * np.max(np.abs(clean)) * rng.standard_normal(kappa.size)
+        scale = FORCE_NOISE * np.max(np.abs(clean))
+        fx = clean + scale * rng.standard_normal(kappa.size)
+        fy = tyre.fy(fz, 0.0 * kappa) + scale * rng.standard_normal(kappa.size)
         rows.append(pd.DataFrame({
             "run": run, "load [N]": load, "pressure [bar]": PRESSURE_BAR, "speed [km/h]": SPEED_KMH,
-            "slip_ratio [-]": kappa, "fz [N]": np.round(fz, 1), "fx [N]": np.round(fx, 1)}))
+            "camber [deg]": 0.0, "slip_angle [deg]": 0.0, "slip_ratio [-]": kappa,
+            "fz [N]": np.round(fz, 1), "fx [N]": np.round(fx, 1), "fy [N]": np.round(fy, 1)}))
     return pd.concat(rows, ignore_index=True)
+
+
+def tyre_table(which: str) -> pd.DataFrame:
+    """The rig programme of one tyre: slip-angle sweeps (runs 1-4), then slip-ratio sweeps (runs 5-8)."""
+    spec = {"soft": SOFT, "hard": HARD}[which]
+    rng = np.random.default_rng(spec["seed"])
+    return pd.concat([lateral_table(which, rng), longitudinal_table(which, rng)], ignore_index=True)
 
 
 def utqg_table(rng: np.random.Generator | None = None) -> pd.DataFrame:
@@ -254,8 +274,8 @@ physics, the true parameters and the seeds (`truth.json` repeats them).
 
 | file | what |
 |---|---|
-| `soft_lateral.csv`, `soft_longitudinal.csv` | soft 235/45R18 stand-in: slip-angle and slip-ratio sweeps, 2-6.5 kN |
-| `hard_lateral.csv`, `hard_longitudinal.csv` | hard 205/60R15 stand-in (about 0.815 of the soft tyre's grip) |
+| `soft_tyre.csv` | soft 235/45R18 stand-in: slip-angle sweeps (runs 1-4) and slip-ratio sweeps (runs 5-8), 2-6.5 kN |
+| `hard_tyre.csv` | hard 205/60R15 stand-in (about 0.815 of the soft tyre's grip), same programme |
 | `braking_utqg.csv` | 15 tyres: UTQG treadwear and dry 50-0 mph stopping distance (input of `tyrefit traction`) |
 | `emission.csv` | particles per tyre vs longitudinal force (input of the Eq. 14 fit) |
 | `soft_rear.tir`, `hard_front.tir` | the default tyres of `tyrefit sim`: PAC89 fits of the CSVs above by `tyrefit.fitting.fit_pac89` (see each file's header) |
@@ -275,14 +295,9 @@ def generate(out_dir: Path, fit: bool = True) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     files: list[Path] = []
     for which, spec in (("soft", SOFT), ("hard", HARD)):
-        rng = np.random.default_rng(spec["seed"])
-        for kind, table, what in (
-                ("lateral", lateral_table(which, rng),
-                 f"{spec['name']}: free-rolling slip-angle sweeps, {PRESSURE_BAR} bar, {SPEED_KMH:g} km/h, ISO-W"),
-                ("longitudinal", longitudinal_table(which, rng),
-                 f"{spec['name']}: slip-ratio sweeps, {PRESSURE_BAR} bar, {SPEED_KMH:g} km/h, driving positive")):
-            path = out / f"{which}_{kind}.csv"
-            files.append(write_text(path, _csv(table, what, spec["seed"]), force=True))
+        what = (f"{spec['name']}: free-rolling slip-angle sweeps (runs 1-4) and slip-ratio sweeps at zero slip "
+                f"angle (runs 5-8), {PRESSURE_BAR} bar, {SPEED_KMH:g} km/h, ISO-W signs")
+        files.append(write_text(out / f"{which}_tyre.csv", _csv(tyre_table(which), what, spec["seed"]), force=True))
     files.append(write_text(out / "braking_utqg.csv",
                             _csv(utqg_table(), "UTQG treadwear grades and dry 50-0 mph stopping distances "
                                  "(Tire Rack style), 15 tyres", UTQG_TRUTH["seed"]), force=True))

@@ -1,0 +1,209 @@
+"""``tyrefit sim braking|straight|curved [--front F.tir --rear R.tir] [--json OUT.json] [--report DIR]``.
+
+Seed 000's scenarios (:mod:`tyrefit.sim.scenarios`) for the base vehicle
+(the rear, soft tyre on both axles) and the low-wear vehicle (hard front,
+soft rear, wear-aware allocator), at conditions 0.5 and 1.0 and 30, 60 and
+120 km/h.  Without ``--front``/``--rear`` the bundled tyres of ``data/sim``
+are used (PAC89 fits of synthetic data).
+
+JSON (DESIGN): ``{"rows": [...]}`` with, for ``braking``, ``condition``,
+``initial_speed_kmh``, ``vehicle`` ('base' | 'low_wear'),
+``stopping_distance_m``, ``max_deceleration_mps2``; for ``straight`` and
+``curved``, ``condition``, ``speed_kmh``, ``emission_base``,
+``emission_low_wear``, ``reduction_pct``, ``max_path_difference_m``,
+``max_speed_difference_pct``.  Extra top-level keys: ``scenario``,
+``setup`` (vehicle, tyres, k, emission law, limits) and ``details`` (the
+paper's values, comfort and tracking figures per run).
+
+``--report DIR`` writes ``DIR/index.html`` with the paper's panels and the
+runs' traces as CSV files beside it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import DataError
+from ..io.outputs import check_output, staged_dir, write_text
+
+__all__ = ["run", "sim_report", "jsonable"]
+
+_TITLES = {
+    "braking": "Emergency braking (seed 000 Table 3)",
+    "straight": "Straight path: accelerate, then brake (seed 000 Table 4, Figs. 7-9)",
+    "curved": "Curved path: straight, arc, straight (seed 000 Table 5, Figs. 10-12)",
+}
+
+
+def jsonable(x):
+    """Plain JSON types (NaN and inf become null)."""
+    if isinstance(x, dict):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    if isinstance(x, (float, np.floating)):
+        v = float(x)
+        return v if math.isfinite(v) else None
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, np.ndarray):
+        return jsonable(x.tolist())
+    return x
+
+
+def _setup(args):
+    from ..sim.scenarios import SimSetup
+    from ..sim.tyres import default_tyres, load_tyre
+
+    front = load_tyre(args.front) if getattr(args, "front", None) else None
+    rear = load_tyre(args.rear) if getattr(args, "rear", None) else None
+    if front is None or rear is None:
+        f0, r0 = default_tyres()
+        front = front or f0
+        rear = rear or r0
+    return SimSetup(front=front, rear=rear)
+
+
+def _summary(res) -> str:
+    lines = [_TITLES[res.scenario], f"  k = {res.setup['k']:.4f} (ideal reduction "
+             f"{res.setup['ideal_reduction_pct']:.1f} %), front {res.setup['front_tyre']!r}, "
+             f"rear {res.setup['rear_tyre']!r}"]
+    if res.scenario == "braking":
+        lines.append(f"  {'eta':>4} {'km/h':>5} {'vehicle':>9} {'stop [m]':>9} {'paper':>6} {'decel':>7} {'paper':>6}")
+        for r, d in zip(res.rows, res.details):
+            lines.append(f"  {r['condition']:4.1f} {r['initial_speed_kmh']:5.0f} {r['vehicle']:>9} "
+                         f"{r['stopping_distance_m']:9.2f} {d['paper_stopping_distance_m']:6.1f} "
+                         f"{r['max_deceleration_mps2']:7.2f} {d['paper_max_deceleration_mps2']:6.1f}")
+    else:
+        lines.append(f"  {'eta':>4} {'km/h':>5} {'reduction %':>12} {'paper %':>8} {'path diff [m]':>14} "
+                     f"{'speed diff %':>13}")
+        for r, d in zip(res.rows, res.details):
+            lines.append(f"  {r['condition']:4.1f} {r['speed_kmh']:5.0f} {r['reduction_pct']:12.1f} "
+                         f"{d['paper_reduction_pct']:8.0f} {r['max_path_difference_m']:14.5f} "
+                         f"{r['max_speed_difference_pct']:13.4f}")
+    return "\n".join(lines)
+
+
+def sim_report(res):
+    """HTML :class:`~tyrefit.report.Report` of a scenario result (figures embedded)."""
+    from ..report import Report
+    from ..sim.plots import braking_figure, scenario_figure
+
+    st = res.setup
+    r = Report(_TITLES[res.scenario],
+               subtitle="Pham, Hamedmoghadam, Shorten (seed 000): low-wear hard tyres on the front axle, soft "
+                        "tyres at the rear, and an allocator that makes the vehicle drive like the all-soft one.")
+    r.h2("Set-up")
+    v = st["vehicle"]
+    r.table([
+        {"item": "front tyre (low-wear vehicle)", "value": st["front_tyre"]},
+        {"item": "rear tyre (both vehicles; base front too)", "value": st["rear_tyre"]},
+        {"item": "mass [kg] / yaw inertia [kg m2]", "value": f"{v['mass']:g} / {v['yaw_inertia']:g}"},
+        {"item": "l_f / l_r [m]", "value": f"{v['lf']:g} / {v['lr']:g}"},
+        {"item": "wheel radius [m] / wheel inertia per axle [kg m2]",
+         "value": f"{v['wheel_radius']:g} / {v['wheel_inertia']:g}"},
+        {"item": "drag C_d [kg/m] (CALIBRATED to Table 3: C_d/m = 4.8e-4 1/m)", "value": f"{v['drag']:g}"},
+        {"item": "static tyre load front / rear [N]",
+         "value": f"{st['static_tyre_load_front_N']:.0f} / {st['static_tyre_load_rear_N']:.0f}"},
+        {"item": "peak mu_x soft / hard at the front load", "value": f"{st['mu_peak_soft']:.4f} / "
+                                                                     f"{st['mu_peak_hard']:.4f}"},
+        {"item": "hard/soft peak ratio", "value": f"{st['mu_ratio_hard_soft']:.4f}"},
+        {"item": "treadwear-traction exponent b (Eq. 42)", "value": f"{st['traction_b']:.4f} "
+                                                                   f"({st['traction_b_source']})"},
+        {"item": "emission ratio k = (mu_h/mu_s)^(1/b) (Eq. 43)", "value": f"{st['k']:.4f}"},
+        {"item": "ideal reduction (1-k)/(1+k) [%]", "value": f"{st['ideal_reduction_pct']:.2f}"},
+        {"item": "emission per tyre N = aF^2 + bF + c (Eq. 14)",
+         "value": f"a={st['emission']['a']:.5g}, b={st['emission']['b']:.5g}, c={st['emission']['c']:.5g} "
+                  f"({st['emission']['source']})"},
+        {"item": "slip limit front / rear (Eq. 49-50)", "value": f"{st['slip_limit_front']} / "
+                                                                 f"{st['slip_limit_rear']}"},
+        {"item": "time step [s]", "value": str(st["dt_s"])},
+    ])
+    r.p("Calibrated to seed 000's Table 3: the drag coefficient (from the growth of the maximum deceleration "
+        "between 30 and 120 km/h) and, through the synthetic tyres' peak friction and the 0.95 peak share of "
+        "the slip limit, the soft tyre's effective friction (about 1.10) and the hard/soft ratio (about 0.815). "
+        "Mass, inertias and wheel radius are tyrefit's choices (the paper's values did not survive).", cls="warn")
+    if res.scenario == "braking":
+        r.h2("Stopping distance and maximum deceleration")
+        r.table([{"eta": d["condition"], "km/h": d["initial_speed_kmh"], "vehicle": d["vehicle"],
+                  "stop [m]": d["stopping_distance_m"], "paper [m]": d["paper_stopping_distance_m"],
+                  "diff %": 100 * (d["stopping_distance_m"] / d["paper_stopping_distance_m"] - 1),
+                  "max decel [m/s2]": d["max_deceleration_mps2"], "paper [m/s2]": d["paper_max_deceleration_mps2"]}
+                 for d in res.details])
+        ratios = [{"eta": res.rows[i]["condition"], "km/h": res.rows[i]["initial_speed_kmh"],
+                   "low-wear / base": res.rows[i + 1]["stopping_distance_m"] / res.rows[i]["stopping_distance_m"]}
+                  for i in range(0, len(res.rows), 2)]
+        r.table(ratios, caption="Stopping-distance ratio (seed 000: about 1.10)")
+        r.figure(braking_figure(res), "Speed and deceleration against distance; simulated against the paper's "
+                                      "stopping distances.")
+        r.p("Full brake demand from free rolling; both vehicles' torque controllers hold each axle at its slip "
+            "limit. Stopping distance: distance until the speed falls below 0.3 m/s plus v^2/(2a) for the rest.")
+    else:
+        r.h2("Emission and drivability")
+        r.table([{"eta": d["condition"], "km/h": d["speed_kmh"], "emission base [#]": d["emission_base"],
+                  "emission low-wear [#]": d["emission_low_wear"], "reduction %": d["reduction_pct"],
+                  "paper %": d["paper_reduction_pct"], "ideal %": d["ideal_reduction_pct"],
+                  "max path diff [m]": d["max_path_difference_m"],
+                  "max speed diff %": d["max_speed_difference_pct"],
+                  "max |steer correction| [deg]": math.degrees(d["max_steer_correction_rad"])}
+                 for d in res.details])
+        r.p("Emission: particles of all four tyres over the run. Path difference: largest difference of the "
+            "lateral offset n at equal distance along the path. Speed difference: largest difference at equal "
+            "time, in percent of the base vehicle's top speed. The low-wear vehicle replays the base driver's "
+            "recorded steering and force demand.")
+        r.h3("Comfort of the base driver (Bae et al.'s aggressive driver, Eq. 44-48)")
+        r.table([{"eta": d["condition"], "km/h": d["speed_kmh"],
+                  **{k: v for k, v in d["comfort_base"].items()}} for d in res.details])
+        r.h3("Torque controller: tracking of the reference forces (low-wear vehicle)")
+        r.table([{"eta": d["condition"], "km/h": d["speed_kmh"], **d["low_wear"]} for d in res.details])
+        for j in range(len(res.members)):
+            c, spd = res.members[j]
+            r.figure(scenario_figure(res, j), f"eta = {c:g}, {spd:g} km/h: orange base, blue low-wear; "
+                                              "solid front axle, dotted rear.")
+    r.h2("Traces")
+    for j, (c, spd) in enumerate(res.members):
+        name = _trace_name(res.scenario, c, spd)
+        r.link(name, f"{name}: both vehicles, every 50 ms")
+    r.json_block(jsonable(res.to_json()), "JSON")
+    return r
+
+
+def _trace_name(scenario: str, condition: float, speed: float) -> str:
+    return f"{scenario}_eta{condition:g}_{speed:g}kmh.csv"
+
+
+def run(args) -> int:
+    """Entry point of ``tyrefit sim braking|straight|curved``."""
+    from ..sim.plots import traces_frame
+    from ..sim.scenarios import SCENARIOS, run_scenario
+
+    scenario = args.scenario
+    if scenario not in SCENARIOS:  # pragma: no cover - argparse restricts the choices
+        raise DataError(f"unknown scenario {scenario!r}; accepted: {', '.join(SCENARIOS)}")
+    if getattr(args, "json", None):
+        check_output(args.json, args.force)
+    if getattr(args, "report", None):
+        rp = Path(args.report)
+        if rp.exists() and any(rp.iterdir()) and not args.force:
+            check_output(rp, False)
+    setup = _setup(args)
+    res = run_scenario(scenario, setup)
+    print(_summary(res))
+    if getattr(args, "json", None):
+        write_text(args.json, json.dumps(jsonable(res.to_json()), indent=2) + "\n", force=args.force)
+        print(f"wrote {args.json}")
+    if getattr(args, "report", None):
+        report = sim_report(res)
+        with staged_dir(args.report, force=args.force) as d:
+            report.save(d)
+            for j, (c, spd) in enumerate(res.members):
+                df = traces_frame(res, j)
+                write_text(d / _trace_name(scenario, c, spd),
+                           df.to_csv(index=False, lineterminator="\n", float_format="%.7g"),
+                           force=True)
+        print(f"wrote {Path(args.report) / 'index.html'}")
+    return 0

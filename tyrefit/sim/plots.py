@@ -1,0 +1,172 @@
+"""The paper's panels for the scenarios (seed 000 Figs. 7-12) and CSV traces.
+
+Colours as in the paper: orange the base vehicle, blue the low-wear one;
+solid lines the front axle, dotted the rear.  Every plot function takes
+``ax=None`` and returns the Axes; quantities are shown in display units.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "BASE_COLOR",
+    "LOW_WEAR_COLOR",
+    "plot_channel",
+    "plot_axle_channel",
+    "scenario_figure",
+    "braking_figure",
+    "traces_frame",
+]
+
+BASE_COLOR = "tab:orange"
+LOW_WEAR_COLOR = "tab:blue"
+
+#: channel -> (label, scale to display units)
+_DISPLAY = {
+    "vx": ("speed [km/h]", 3.6),
+    "ax": ("acceleration [m/s²]", 1.0),
+    "ay": ("lateral acceleration [m/s²]", 1.0),
+    "n": ("lateral offset n [m]", 1.0),
+    "steer": ("steering angle [deg]", 180.0 / np.pi),
+    "steer_driver": ("driver's steering [deg]", 180.0 / np.pi),
+    "emission": ("emission [#/s]", 1.0),
+    "torque": ("wheel torque [N·m]", 1.0),
+    "fy": ("lateral force [kN]", 1e-3),
+    "fx": ("longitudinal force [kN]", 1e-3),
+}
+
+
+def _ax(ax):
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(6, 3.5))
+    return ax
+
+
+def _x(res, j, by):
+    m = res.member(j, ["s"])
+    return (m["s"], "distance along the path [m]") if by == "s" else (m["t"], "time [s]")
+
+
+def plot_channel(base, low, j: int, name: str, ax=None, by: str = "s"):
+    """One channel of member ``j`` for both vehicles against distance (or time)."""
+    ax = _ax(ax)
+    label, scale = _DISPLAY.get(name, (name, 1.0))
+    for res, color, who in ((base, BASE_COLOR, "base"), (low, LOW_WEAR_COLOR, "low-wear")):
+        x, xl = _x(res, j, by)
+        ax.plot(x, res.member(j, [name])[name] * scale, color=color, label=who)
+    ax.set_xlabel(xl)
+    ax.set_ylabel(label)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def plot_axle_channel(base, low, j: int, kind: str, ax=None, by: str = "s"):
+    """Front (solid) and rear (dotted) ``kind`` in {'emission', 'torque', 'fy', 'fx'} for both vehicles."""
+    ax = _ax(ax)
+    label, scale = _DISPLAY[kind]
+    prefix = {"emission": "emission_", "torque": "torque_", "fy": "fy_", "fx": "fx_"}[kind]
+    for res, color, who in ((base, BASE_COLOR, "base"), (low, LOW_WEAR_COLOR, "low-wear")):
+        x, xl = _x(res, j, by)
+        m = res.member(j, [prefix + "f", prefix + "r"])
+        ax.plot(x, m[prefix + "f"] * scale, "-", color=color, label=f"{who} front")
+        ax.plot(x, m[prefix + "r"] * scale, ":", color=color, label=f"{who} rear")
+    ax.set_xlabel(xl)
+    ax.set_ylabel(label)
+    ax.legend(fontsize=7, ncol=2)
+    return ax
+
+
+def scenario_figure(result, j: int):
+    """The paper's panels for one run of a straight or curved scenario.
+
+    Straight (Figs. 7-9): speed, acceleration, emission and torque.
+    Curved (Figs. 10-12): lateral force, steering, emission and torque, plus
+    the lateral offset of both vehicles.
+    """
+    import matplotlib.pyplot as plt
+
+    base, low = result.base, result.low_wear
+    c, v = result.members[j]
+    if result.scenario == "curved":
+        fig, axs = plt.subplots(3, 2, figsize=(12, 10))
+        plot_axle_channel(base, low, j, "fy", axs[0, 0])
+        plot_channel(base, low, j, "steer", axs[0, 1])
+        plot_axle_channel(base, low, j, "emission", axs[1, 0])
+        plot_axle_channel(base, low, j, "torque", axs[1, 1])
+        plot_channel(base, low, j, "n", axs[2, 0])
+        plot_channel(base, low, j, "vx", axs[2, 1])
+    else:
+        fig, axs = plt.subplots(2, 2, figsize=(12, 7))
+        plot_channel(base, low, j, "vx", axs[0, 0])
+        plot_channel(base, low, j, "ax", axs[0, 1])
+        plot_axle_channel(base, low, j, "emission", axs[1, 0])
+        plot_axle_channel(base, low, j, "torque", axs[1, 1])
+    fig.suptitle(f"{result.scenario}: condition eta = {c:g}, {v:g} km/h")
+    fig.tight_layout()
+    return fig
+
+
+def braking_figure(result):
+    """Speed and deceleration against distance for every braking run, and stopping distances vs the paper."""
+    import matplotlib.pyplot as plt
+
+    from .scenarios import PAPER_TABLE3
+
+    base, low = result.base, result.low_wear
+    fig, axs = plt.subplots(1, 3, figsize=(15, 4))
+    for j, (c, v) in enumerate(result.members):
+        ls = "-" if c == 1.0 else "--"
+        for res, color in ((base, BASE_COLOR), (low, LOW_WEAR_COLOR)):
+            m = res.member(j, ["s", "vx", "ax"])
+            axs[0].plot(m["s"], m["vx"] * 3.6, ls, color=color, lw=1)
+            axs[1].plot(m["s"], -m["ax"], ls, color=color, lw=1)
+    axs[0].set_xlabel("distance [m]")
+    axs[0].set_ylabel("speed [km/h]")
+    axs[1].set_xlabel("distance [m]")
+    axs[1].set_ylabel("deceleration [m/s²]")
+    axs[0].set_title("orange base, blue low-wear; solid eta 1, dashed eta 0.5", fontsize=9)
+    sim = [r["stopping_distance_m"] for r in result.rows]
+    paper = [PAPER_TABLE3[(r["condition"], int(r["initial_speed_kmh"]))][0 if r["vehicle"] == "base" else 1]
+             for r in result.rows]
+    colors = [BASE_COLOR if r["vehicle"] == "base" else LOW_WEAR_COLOR for r in result.rows]
+    axs[2].scatter(paper, sim, c=colors)
+    lim = [0, max(max(sim), max(paper)) * 1.05]
+    axs[2].plot(lim, lim, "k-", lw=0.8)
+    axs[2].fill_between(lim, [0.95 * x for x in lim], [1.05 * x for x in lim], color="0.85", label="±5 %")
+    axs[2].set_xscale("log")
+    axs[2].set_yscale("log")
+    axs[2].set_xlabel("seed 000 Table 3 stopping distance [m]")
+    axs[2].set_ylabel("simulated stopping distance [m]")
+    axs[2].legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+_TRACE = [("t", "t [s]", 1.0), ("s", "s [m]", 1.0), ("n", "n [m]", 1.0), ("xi", "xi [rad]", 1.0),
+          ("vx", "vx [m/s]", 1.0), ("vy", "vy [m/s]", 1.0), ("yaw_rate", "yaw_rate [rad/s]", 1.0),
+          ("ax", "ax [m/s2]", 1.0), ("ay", "ay [m/s2]", 1.0), ("steer_driver", "steer_driver [rad]", 1.0),
+          ("steer", "steer [rad]", 1.0), ("force_demand", "force_demand [N]", 1.0),
+          ("force_ref_f", "force_ref_f [N]", 1.0), ("force_ref_r", "force_ref_r [N]", 1.0),
+          ("fx_f", "fx_f [N]", 1.0), ("fx_r", "fx_r [N]", 1.0), ("fy_f", "fy_f [N]", 1.0),
+          ("fy_r", "fy_r [N]", 1.0), ("slip_ratio_f", "slip_ratio_f [-]", 1.0),
+          ("slip_ratio_r", "slip_ratio_r [-]", 1.0), ("torque_f", "torque_f [N*m]", 1.0),
+          ("torque_r", "torque_r [N*m]", 1.0), ("emission_f", "emission_f [#/s]", 1.0),
+          ("emission_r", "emission_r [#/s]", 1.0)]
+
+
+def traces_frame(result, j: int, every_s: float = 0.05):
+    """Both vehicles' traces of member ``j`` as one DataFrame (a ``vehicle`` column), every ``every_s`` s."""
+    import pandas as pd
+
+    frames = []
+    for name, res in (("base", result.base), ("low_wear", result.low_wear)):
+        dt = float(res.t[1] - res.t[0]) if res.t.size > 1 else every_s
+        k = max(1, int(round(every_s / dt)))
+        m = res.member(j, [c for c, _, _ in _TRACE if c != "t"])
+        df = pd.DataFrame({h: m[c][::k] * f for c, h, f in _TRACE})
+        df.insert(0, "vehicle", name)
+        frames.append(df)
+    return pd.concat(frames, ignore_index=True)
