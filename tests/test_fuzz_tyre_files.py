@@ -121,6 +121,8 @@ def test_mf_tir_mutated(data):
 @example(data=b'{"Lateral Coefficients": {}, "Design Parameters": {"Vertical Curve Data": [[1, 2, 3]]}}')
 @example(data=b'{"Lateral Coefficients": {}, "Design Parameters": {"Vertical Curve Data": 5}}')
 @example(data=b'{"Lateral Coefficients": {}, "Design Parameters": {"Unloaded Radius": 1e400}}')
+@example(data=b'{"Lateral Coefficients": {"a0": ' + b"9" * 5000 + b"}}")  # beyond int() digit limit
+@example(data=b"[" * 100_000 + b"]" * 100_000)  # deeper than the recursion limit
 def test_json_arbitrary_bytes(data):
     _read_json(write("bytes.json", data))
 

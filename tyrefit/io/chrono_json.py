@@ -64,9 +64,9 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
         raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
     try:
         doc = json.loads(_strip_comments(raw.decode("utf-8")))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except (ValueError, RecursionError) as exc:  # bad UTF-8, bad JSON, >4300-digit integers, deep nesting
         raise FormatError(f"{p}: not a Chrono tyre JSON file ({exc.__class__.__name__}: "
-                          f"{str(exc).splitlines()[0][:80]})") from None
+                          f"{(str(exc).splitlines() or [''])[0][:80]})") from None
     if not isinstance(doc, dict) or "Lateral Coefficients" not in doc:
         raise FormatError(f"{p}: no 'Lateral Coefficients'; expected Chrono's Pac89Tire JSON")
     coeffs: dict[str, float] = {}
