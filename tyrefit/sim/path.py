@@ -118,11 +118,15 @@ class PathGeometry:
         """Global (x, y) [m] of the point at distance ``s`` and offset ``n`` for one member (arrays)."""
         s = np.atleast_1d(np.asarray(s, float))
         ss = np.linspace(0.0, max(float(s.max()), 1e-9), max(2000, int(s.max() / 0.25) + 2))
-        kap = self.curvatures[member][np.minimum(np.searchsorted(self.ends[member], ss, side="right"),
-                                                 self.lengths.shape[1] - 1)]
-        th = np.concatenate([[0.0], np.cumsum(0.5 * (kap[1:] + kap[:-1]) * np.diff(ss))])
-        x = np.concatenate([[0.0], np.cumsum(np.cos(0.5 * (th[1:] + th[:-1])) * np.diff(ss))])
-        y = np.concatenate([[0.0], np.cumsum(np.sin(0.5 * (th[1:] + th[:-1])) * np.diff(ss))])
+
+        def heading(q):
+            i = np.minimum(np.searchsorted(self.ends[member], q, side="right"), self.lengths.shape[1] - 1)
+            return self.theta0[member, i] + self.curvatures[member, i] * (q - self.starts[member, i])
+
+        th = heading(ss)
+        mid = heading(0.5 * (ss[1:] + ss[:-1]))                   # exact heading, midpoint rule
+        x = np.concatenate([[0.0], np.cumsum(np.cos(mid) * np.diff(ss))])
+        y = np.concatenate([[0.0], np.cumsum(np.sin(mid) * np.diff(ss))])
         th_s = np.interp(s, ss, th)
         n = np.broadcast_to(np.asarray(n, float), s.shape)
         return np.interp(s, ss, x) - n * np.sin(th_s), np.interp(s, ss, y) + n * np.cos(th_s)

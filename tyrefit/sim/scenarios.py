@@ -179,6 +179,10 @@ class SimSetup:
             "ideal_reduction_pct": 100.0 * (1 - self.k) / (1 + self.k),
             "emission": self.emission.to_dict(),
             "slip_limit_front": self.limit_front.describe(), "slip_limit_rear": self.limit_rear.describe(),
+            "calibrated_to_table3": ("vehicle drag C_d (C_d/m = 4.8e-4 1/m, from the growth of Table 3's maximum "
+                                     "deceleration between 30 and 120 km/h); the bundled tyres' peak friction "
+                                     "(soft ~1.158, hard/soft ~0.815) with the 0.95 peak share of the slip limit "
+                                     "(effective soft friction ~1.10)"),
             "comfort": self.comfort.__dict__, "steering": self.steering.__dict__,
             "dt_s": {k: self.step(k) for k in STEP_SIZES},
         }
