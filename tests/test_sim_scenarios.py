@@ -1,6 +1,5 @@
 """Seed 000's scenarios with the bundled (fitted) tyres: the issue's "must show" figures."""
 
-import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 

@@ -127,6 +127,16 @@ def sim_report(res):
         "between 30 and 120 km/h) and, through the synthetic tyres' peak friction and the 0.95 peak share of "
         "the slip limit, the soft tyre's effective friction (about 1.10) and the hard/soft ratio (about 0.815). "
         "Mass, inertias and wheel radius are tyrefit's choices (the paper's values did not survive).", cls="warn")
+    r.p("Controller. The allocator predicts the base (all-soft) vehicle's forces at the measured state from the "
+        "driver's steering and force demand (equal split within the soft tyres' slip limits; soft-tyre lateral "
+        "forces, Eq. 24-25), then splits the longitudinal force between the axles with least emission: the "
+        "closed form of Eq. 30 without steering, seed 000's Alg. 1 over the steering correction with steering "
+        "(Eq. 31-34; re-run every 10 steps, the lateral balance re-solved at every step). Instead of the paper's "
+        "offline path-discretised optimal-control problem, a causal force-tracking torque controller (inverse "
+        "tyre curve for the reference slip, wheel torque r F_ref + J dw_ref/dt + J K (w_ref - w)) turns the "
+        "references into wheel torques at every time step, as an ECU would; the tables below show how closely "
+        "the forces follow their references. Slip limits (Eq. 49-50): a tyre's characteristic slip (seed 002) "
+        "where the tyre provides one, else |mu| <= 0.95 of its peak.")
     if res.scenario == "braking":
         r.h2("Stopping distance and maximum deceleration")
         r.table([{"eta": d["condition"], "km/h": d["initial_speed_kmh"], "vehicle": d["vehicle"],

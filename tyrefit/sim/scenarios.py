@@ -23,7 +23,7 @@ difference at equal distance and the largest speed difference at equal time
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
