@@ -355,3 +355,18 @@ def test_single_load_level_fixes_the_load_law():
     assert "a4" not in dg.final.spec.names and dg.final.fit.values["a4"] == pytest.approx(8.0, rel=0.01)
     assert dg.accepted == ["camber"]
     assert dg.candidates["load_friction"].status == "not testable with these data"
+
+
+def test_noise_floor_of_sparse_sweeps_uses_one_magic_formula_per_sweep():
+    """25-point sweeps (1 deg steps over +/-12 deg) leave a knot spline no dof; the floor is still found."""
+    from tyrefit.models.pac89 import magic_formula
+
+    rng = np.random.default_rng(3)
+    a = np.radians(np.arange(-12.0, 12.5, 1.0))
+    slips, fys, sweeps = [], [], []
+    for g, d in enumerate([3000.0, 4500.0, 6000.0] * 4):
+        fy = magic_formula(np.degrees(a), 0.25, 1.4, d, -0.5) + 40.0 * rng.standard_normal(a.size)
+        slips.append(a), fys.append(fy), sweeps.append(np.full(a.size, g))
+    floor, per = noise_floor(np.concatenate(slips), np.concatenate(fys), np.concatenate(sweeps))
+    assert np.all(np.isfinite(per))
+    assert floor == pytest.approx(40.0, rel=0.15)
