@@ -106,4 +106,16 @@ def _dask_row(db, tmp: Path, t_serial: float) -> dict:
     err, checked = max_curve_error(db, tmp / "dask")
     return measurement(f"batch_fit on a Dask LocalCluster (2 processes), {len(db.paths)} tyres", t,
                        "serial loop in one process", t_serial, max_tir_error_pct=100 * err, checked=checked,
+                       coefficients_differing_from_local=_differences(db, tmp / "out", tmp / "dask"),
                        note="cluster start-up not timed")
+
+
+def _differences(db, a: Path, b: Path) -> int:
+    """How many coefficients differ (bit for bit) between two batch outputs of the same database."""
+    from tyrefit.io.tir import read_tir
+
+    n = 0
+    for name in db.truth:
+        ca, cb = read_tir(a / f"{name}.tir").coefficients, read_tir(b / f"{name}.tir").coefficients
+        n += sum(ca[k] != cb[k] for k in ca)
+    return n
