@@ -3,7 +3,8 @@
 Data (synthetic, nothing here is a measurement): the PAC89 example coefficient
 set evaluated by :mod:`tyrefit.synthetic.pac89_example` at Fz 2, 4, 6, 8 kN x
 camber -4, -2, 0, 2, 4 deg, slip -12..12 deg, 1 % Gaussian noise of each
-sweep's peak; about 3 000 and 30 000 points (finer slip steps).
+sweep's peak; about 3 000 and 30 000 points (finer slip steps), and 300 000 with
+``TYREFIT_BENCH_FULL=1``.
 
 Baseline, measured in the same run on the same data and the same model:
 ``scipy.optimize.least_squares`` with its default 2-point finite-difference
@@ -43,6 +44,7 @@ from scipy.optimize import least_squares
 from . import best_of, full, measurement
 
 SIZES = {"3k": 0.16, "30k": 0.016}  # slip step [deg] -> 20 sweeps x (24 / step + 1) points
+FULL_SIZES = {**SIZES, "300k": 0.0016}  # with TYREFIT_BENCH_FULL=1
 
 
 def _data(step):
@@ -130,7 +132,7 @@ def run() -> dict:
     out, info = [], {"sizes": {}}
     fit_pac89(_data(0.5))  # warm-up: imports, caches
     repeat = 3 if full() else 1
-    for label, step in SIZES.items():
+    for label, step in (FULL_SIZES if full() else SIZES).items():
         df = _data(step)
         npts = len(df)
         t_fit, res = best_of(lambda: fit_pac89(df), repeat=repeat)
