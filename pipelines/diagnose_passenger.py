@@ -12,16 +12,14 @@ import json
 import sys
 from pathlib import Path
 
-from tyrefit.cli import main as tyrefit
+from tyrefit.cli import run_checked
 from tyrefit.datasets import data_path
 
 RATED_LOAD_N = 6031.0  # load index 91 (data/passenger/README.md)
 
 
 def _run(argv: list[str]) -> None:
-    code = tyrefit(argv + ["--force"])
-    if code != 0:
-        raise RuntimeError(f"tyrefit {argv[0]} exited {code}")
+    run_checked(argv + ["--force"])
 
 
 def main(out_dir: str | Path = "reports/diagnose_passenger") -> dict:

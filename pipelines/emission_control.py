@@ -20,15 +20,13 @@ import json
 import sys
 from pathlib import Path
 
-from tyrefit.cli import main as tyrefit
+from tyrefit.cli import run_checked
 from tyrefit.datasets import data_path
 from tyrefit.report import Report
 
 
 def _run(argv: list[str]) -> None:
-    code = tyrefit(argv + ["--force"])
-    if code != 0:
-        raise RuntimeError(f"tyrefit {' '.join(argv[:2])} exited {code}")
+    run_checked(argv + ["--force"])
 
 
 def main(out_dir: str | Path = "reports/emission_control") -> dict:

@@ -11,7 +11,7 @@ import math
 import sys
 from pathlib import Path
 
-from tyrefit.cli import main as tyrefit
+from tyrefit.cli import run_checked
 from tyrefit.datasets import data_path
 from tyrefit.io.tir import read_tir
 
@@ -20,12 +20,10 @@ def main(out_dir: str | Path = "reports/fit_truck") -> dict:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     tir = out / "tyre_a.tir"
-    code = tyrefit(["fit", str(data_path("truck", "tyre_a_dynamic.csv")),
+    run_checked(["fit", str(data_path("truck", "tyre_a_dynamic.csv")),
                     "--vertical", str(data_path("truck", "tyre_a_vertical.csv")),
                     "--cost", "l1", "--out", str(tir), "--json", str(out / "tyre_a_chrono.json"),
                     "--report", str(out), "--force"])
-    if code != 0:
-        raise RuntimeError(f"tyrefit fit exited {code}")
     tyre = read_tir(tir)
     fz = 4250 * 9.80665
     return {"headline": f"tyre_a.tir written; cornering stiffness at the rated load "

@@ -18,7 +18,7 @@ from collections.abc import Sequence
 
 from .errors import TyrefitError
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "run_checked"]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -186,6 +186,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:  # pragma: no cover
         print("tyrefit: interrupted", file=sys.stderr)
         return 130
+
+
+def run_checked(argv: Sequence[str]) -> None:
+    """Run ``tyrefit ARGV`` and raise :class:`RuntimeError` unless it exits 0 (for pipelines)."""
+    code = main(list(argv))
+    if code != 0:
+        raise RuntimeError(f"tyrefit {' '.join(list(argv)[:2])} exited {code}")
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ValueRangeError
-from ..io.outputs import check_output, write_text
+from ..io.outputs import check_outputs, write_text
 
 __all__ = ["run", "adhesion_report", "result_dict"]
 
@@ -135,10 +135,7 @@ def run(args) -> int:
     from ..sim.adhesion import Manoeuvre, run_experiment
 
     mu, cam = _check(args)
-    if getattr(args, "json", None):
-        check_output(args.json, args.force)
-    if getattr(args, "report", None):
-        check_output(Path(args.report) / "index.html", args.force)
+    check_outputs(args)
     man = Manoeuvre()
     truth, results = run_experiment(mu, cam, manoeuvre=man)
     d = result_dict(mu, cam, results, man, truth)

@@ -13,7 +13,7 @@ import json
 import math
 from pathlib import Path
 
-from ..io.outputs import check_output, write_text
+from ..io.outputs import check_outputs, write_text
 
 __all__ = ["run"]
 
@@ -44,10 +44,7 @@ def run(args) -> int:
     from ..compare import compare_tyres
     from ..io.tir import read_tyre
 
-    if args.json:
-        check_output(args.json, args.force)
-    if args.report:
-        check_output(Path(args.report) / "index.html", args.force)
+    check_outputs(args)
     ta = read_tyre(args.tyre_a)
     tb = read_tyre(args.tyre_b)
     data = None

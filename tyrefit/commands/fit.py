@@ -17,7 +17,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import DataError
-from ..io.outputs import check_output
+from ..io.outputs import check_outputs
 
 __all__ = ["run", "fit_file"]
 
@@ -177,11 +177,7 @@ def run(args) -> int:
     out = Path(args.out)
     if out.suffix.lower() != ".tir":
         raise DataError(f"--out {out}: the tyre file must end in .tir")
-    check_output(out, args.force)
-    if getattr(args, "json", None):
-        check_output(args.json, args.force)
-    if getattr(args, "report", None):
-        check_output(Path(args.report) / "index.html", args.force)
+    check_outputs(args)
     result, extras = fit_file(args)
     result.tyre.to_tir(out, force=args.force)
     if getattr(args, "json", None):

@@ -13,7 +13,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import DataError
-from ..io.outputs import check_output
+from ..io.outputs import check_outputs
 
 __all__ = ["run", "calibration_report"]
 
@@ -85,9 +85,7 @@ def run(args) -> int:
     from ..rig import calibrate
 
     out = Path(args.out)
-    check_output(out, args.force)
-    if args.report:
-        check_output(Path(args.report) / "index.html", args.force)
+    check_outputs(args)
     static = read_data(args.static, kind="static")
     dynamic = read_data(args.dynamic)
     if dynamic.kind != "slip_angle":

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError
-from ..io.outputs import check_output, write_text
+from ..io.outputs import check_outputs, write_text
 from ..models import slip as sl
 from ..models.slip_fit import SlipAnalysis, analyse_slip
 
@@ -113,10 +113,7 @@ def run(args) -> int:
     """Entry point of ``tyrefit slip``."""
     from ..io.readers import read_data
 
-    if getattr(args, "json", None):
-        check_output(args.json, args.force)
-    if getattr(args, "report", None):
-        check_output(Path(args.report) / "index.html", args.force)
+    check_outputs(args)
     ds = read_data(args.data, convention=getattr(args, "convention", "iso"))
     if ds.kind != "slip_ratio" and not {"torque", "rolling_radius"} <= set(ds.df.columns):
         raise DataError(f"{args.data}: is a {ds.kind} test; 'tyrefit slip' needs slip-ratio data "

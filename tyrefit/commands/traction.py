@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.outputs import check_output, write_text
+from ..io.outputs import check_outputs, write_text
 
 __all__ = ["run", "traction_report", "traction_dict"]
 
@@ -114,10 +114,7 @@ def run(args) -> int:
     from ..io.readers import read_data
     from ..sim.traction import traction_from_data
 
-    if getattr(args, "json", None):
-        check_output(args.json, args.force)
-    if getattr(args, "report", None):
-        check_output(Path(args.report) / "index.html", args.force)
+    check_outputs(args)
     ds = read_data(args.data, kind="braking")
     table = traction_from_data(ds)
     d = traction_dict(table)

@@ -24,7 +24,7 @@ def _umask() -> int:
     return mask
 
 
-__all__ = ["check_output", "atomic_write", "write_text", "write_bytes", "staged_dir"]
+__all__ = ["check_output", "check_outputs", "atomic_write", "write_text", "write_bytes", "staged_dir"]
 
 
 def check_output(path: str | os.PathLike, force: bool = False) -> Path:
@@ -36,6 +36,22 @@ def check_output(path: str | os.PathLike, force: bool = False) -> Path:
     if p.exists() and not force:
         raise OutputExistsError(f"{p}: output exists; pass --force to replace it")
     return p
+
+
+def check_outputs(args, files=("out", "json"), reports=("report",)) -> None:
+    """Check a command's outputs before it does any work.
+
+    ``files`` name ``args`` attributes holding output files, ``reports``
+    attributes holding report folders (their ``index.html`` is checked);
+    attributes that are missing or None are skipped.  Honours ``args.force``.
+    """
+    force = bool(getattr(args, "force", False))
+    for name in files:
+        if getattr(args, name, None):
+            check_output(getattr(args, name), force)
+    for name in reports:
+        if getattr(args, name, None):
+            check_output(Path(getattr(args, name)) / "index.html", force)
 
 
 @contextlib.contextmanager
