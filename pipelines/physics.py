@@ -12,7 +12,7 @@ import json
 import sys
 from pathlib import Path
 
-from tyrefit.cli import main as tyrefit
+from tyrefit.cli import run_checked
 from tyrefit.datasets import data_path
 from tyrefit.report import Report
 
@@ -21,9 +21,7 @@ ADHESION_CASES = [(0.8, 0.0), (0.3, 6.0)]
 
 
 def _run(argv: list[str]) -> None:
-    code = tyrefit(argv + ["--force"])
-    if code != 0:
-        raise RuntimeError(f"tyrefit {' '.join(argv[:2])} exited {code}")
+    run_checked(argv + ["--force"])
 
 
 def main(out_dir: str | Path = "reports/physics") -> dict:
