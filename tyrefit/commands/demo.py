@@ -40,9 +40,9 @@ def _load(script: Path):
     return module
 
 
-def run_demo(out: Path, force: bool = False, steps=STEPS) -> tuple[list[dict], Path]:
+def run_demo(out: Path, force: bool = False, steps=STEPS, pipelines: Path | None = None) -> tuple[list[dict], Path]:
     """Run every demo step into ``out``; return the step records and the index path."""
-    pipelines = data_dir().parent / "pipelines"
+    pipelines = Path(pipelines) if pipelines is not None else data_dir().parent / "pipelines"
     if not pipelines.is_dir():
         raise DataError(f"{pipelines}: pipelines folder not found; run the demo from a source checkout")
     records = []
