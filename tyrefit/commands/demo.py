@@ -9,7 +9,9 @@ demo exit non-zero; the other steps still run.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
+import io
 import json
 import time
 import traceback
@@ -50,8 +52,10 @@ def run_demo(out: Path, force: bool = False, steps=STEPS, pipelines: Path | None
         for folder, script, what in steps:
             t0 = time.perf_counter()
             rec = {"step": folder, "what": what, "status": "ok", "headline": "", "link": f"{folder}/index.html"}
+            log = io.StringIO()
             try:
-                result = _load(pipelines / script).main(tmp / folder) or {}
+                with contextlib.redirect_stdout(log):
+                    result = _load(pipelines / script).main(tmp / folder) or {}
                 rec["headline"] = str(result.get("headline", ""))
                 rec["numbers"] = {k: v for k, v in result.items() if k != "headline"}
             except Exception as exc:  # a failing step is reported, the others still run
@@ -59,6 +63,8 @@ def run_demo(out: Path, force: bool = False, steps=STEPS, pipelines: Path | None
                 rec["headline"] = " ".join(f"{exc.__class__.__name__}: {exc}".split())[:300]
                 rec["traceback"] = traceback.format_exc()
             rec["seconds"] = round(time.perf_counter() - t0, 1)
+            if (tmp / folder).is_dir():  # what the step printed, with its final paths
+                (tmp / folder / "log.txt").write_text(log.getvalue().replace(str(tmp), str(out)))
             print(f"[demo] {folder:<18} {rec['status']:<7} {rec['seconds']:>6.1f} s  {rec['headline'][:90]}")
             records.append(rec)
         r = Report("tyrefit demo", "Every result below was produced just now from the bundled data in data/. "
@@ -70,8 +76,10 @@ def run_demo(out: Path, force: bool = False, steps=STEPS, pipelines: Path | None
             link = f'<a href="{rec["link"]}">{rec["step"]}</a>' if rec["status"] == "ok" else rec["step"]
             cls = "ok" if rec["status"] == "ok" else "bad"
             rows.append(f"<tr><td>{link}</td><td>{rec['what']}</td><td class='{cls}'>{rec['status']}</td>"
-                        f"<td>{rec['headline']}</td><td>{rec['seconds']}</td></tr>")
-        r.raw("<table><tr><th>report</th><th>what it shows</th><th>status</th><th>headline</th><th>s</th></tr>"
+                        f"<td>{rec['headline']}</td><td>{rec['seconds']}</td>"
+                        f"<td><a href=\"{rec['step']}/log.txt\">log</a></td></tr>")
+        r.raw("<table><tr><th>report</th><th>what it shows</th><th>status</th><th>headline</th><th>s</th>"
+              "<th>output</th></tr>"
               + "".join(rows) + "</table>")
         r.save(tmp)
         (tmp / "demo.json").write_text(json.dumps(
