@@ -25,6 +25,7 @@ def test_demo_links_reports_and_shows_failed_steps(tmp_path):
     steps = [("good", "good.py", "a step that works"), ("bad", "bad.py", "a step that fails")]
     records, index = run_demo(tmp_path / "demo", steps=steps, pipelines=_pipelines(tmp_path))
     assert [r["status"] for r in records] == ["ok", "failed"]
+    assert (tmp_path / "demo" / "bad" / "log.txt").is_file()
     html = index.read_text()
     assert '<a href="good/index.html">good</a>' in html
     assert "ValueError: no data for this step" in html

@@ -63,8 +63,8 @@ def run_demo(out: Path, force: bool = False, steps=STEPS, pipelines: Path | None
                 rec["headline"] = " ".join(f"{exc.__class__.__name__}: {exc}".split())[:300]
                 rec["traceback"] = traceback.format_exc()
             rec["seconds"] = round(time.perf_counter() - t0, 1)
-            if (tmp / folder).is_dir():  # what the step printed, with its final paths
-                (tmp / folder / "log.txt").write_text(log.getvalue().replace(str(tmp), str(out)))
+            (tmp / folder).mkdir(parents=True, exist_ok=True)  # what the step printed, with its final paths
+            (tmp / folder / "log.txt").write_text(log.getvalue().replace(str(tmp), str(out)))
             print(f"[demo] {folder:<18} {rec['status']:<7} {rec['seconds']:>6.1f} s  {rec['headline'][:90]}")
             records.append(rec)
         r = Report("tyrefit demo", "Every result below was produced just now from the bundled data in data/. "
