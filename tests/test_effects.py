@@ -231,3 +231,74 @@ def test_signature_plot_returns_axes():
     ax = get_effect("camber").plot_signature(view)
     assert ax.get_xlabel() == "camber [deg]"
     plt.close("all")
+
+
+# --- camber_brush: the camber brush model's thrust (seed 001 Eq. 17-22) ----------------------
+def test_camber_brush_is_a_documented_camber_variant():
+    e = get_effect("camber_brush")
+    assert e.family == "camber" and e.param_names == ("camber_brush_k", "camber_brush_n")
+    assert e.neutral == {"camber_brush_k": 0.0, "camber_brush_n": 0.0}
+    assert not e.representable and set(e.pac89_approx) == {"a8", "a11"}
+    src = " ".join(e.card.sources)
+    assert "seed 001" in src and "17-22" in src and "tyrefit.models.brush" in src
+    assert e.signature == "camber_stiffness_vs_fz"
+    few = DataSummary(fz_levels=(3e3, 5e3), camber_levels=(0.0, 3 * DEG))
+    assert "3 camber levels" in e.why_not_testable(few)
+    one_load = DataSummary(fz_levels=(4e3,), camber_levels=(-3 * DEG, 0.0, 3 * DEG))
+    assert "2 load levels" in e.why_not_testable(one_load)
+    assert e.why_not_testable(DataSummary(fz_levels=(3e3, 5e3), camber_levels=(-3 * DEG, 0.0, 3 * DEG))) is None
+    vary, notes = resolve_pac89(["camber_brush"])
+    assert {"a8", "a11"} <= set(vary) and notes[0].startswith("camber_brush:")
+
+
+def test_camber_brush_zero_slip_thrust_is_eq20_with_the_fz_power_law():
+    fz = np.array([2000.0, 4000.0, 8000.0])
+    g = np.array([2.0, -4.0, 6.0]) * DEG
+    x = ModelInputs(fz=fz, slip_angle=np.zeros(3), camber=g)
+    k, n = 8.0, 0.4
+    d = lateral_force(dict(BASE, camber_brush_k=k, camber_brush_n=n), ["camber_brush"], x) - lateral_force(BASE, [], x)
+    kyg = k * (fz / 1e3) ** (1.5 + n) / DEG  # N/rad
+    np.testing.assert_allclose(d, -kyg * np.sin(g), rtol=1e-12)  # Zhang et al. Eq. 20: Fy = -K_yg sin(gamma)
+
+
+def test_camber_brush_fades_to_nothing_where_the_patch_slides():
+    from tyrefit.effects.catalogue import brush_camber_fade
+
+    a = np.linspace(-14, 14, 113) * DEG
+    fz = np.full_like(a, 5000.0)
+    x = ModelInputs(fz=fz, slip_angle=a, camber=np.full_like(a, 4 * DEG))
+    v = dict(BASE, camber_brush_k=10.0)
+    diff = lateral_force(v, ["camber_brush"], x) - lateral_force(BASE, [], x)
+    bcd = BASE["a3"] * np.sin(2 * np.arctan(5.0 / BASE["a4"]))  # N/deg
+    d = BASE["a2"] * 5.0
+    a_sl = np.arctan(3 * d / (bcd / DEG))  # full sliding of a parabolic-pressure brush
+    beyond = np.abs(a) >= a_sl
+    assert beyond.any() and np.all(np.abs(diff[beyond]) < 1e-9)
+    assert np.all(np.abs(diff[np.abs(a) < a_sl]) > 0)
+    # the thrust fades monotonically with |slip| from its zero-slip value
+    w = brush_camber_fade(a, bcd, d)
+    assert w[56] == 1.0 and np.all(np.diff(w[56:]) <= 0) and np.all(w >= 0)
+
+
+def test_camber_brush_fade_is_the_brush_kernel_camber_term():
+    """Against tyrefit.models.brush: Fiala's brush (parabolic pressure, lambda_x = 0) with a small camber."""
+    from tyrefit.effects.catalogue import brush_camber_fade
+    from tyrefit.models import brush as bm
+
+    fz, a, re, k, mu = 4000.0, 0.07, 0.3, 4e7 * 0.15, 0.9
+    ky, kyg = 2 * a**2 * k, 2 * a**3 * k / (3 * re)  # Eq. 20
+    alpha = np.linspace(0, 12, 49) * DEG
+    g = 1e-4
+    f0 = bm.brush_kernel(fz, a, re, k, k, 0.0, 0.0, np.tan(alpha), 0.0, mu)[1]
+    fg = bm.brush_kernel(fz, a, re, k, k, 0.0, 0.0, np.tan(alpha), g, mu)[1]
+    share = (fg - f0) / (-kyg * np.sin(g))
+    # PAC89 units: BCD [N/deg] = K_y [N/rad] * DEG, D = mu Fz
+    np.testing.assert_allclose(share, brush_camber_fade(alpha, ky * DEG, mu * fz), atol=2e-3)
+
+
+def test_camber_brush_reads_the_factors_after_every_scaling():
+    x = grid()
+    v = dict(BASE, camber_brush_k=8.0, camber_brush_n=0.3, pressure_ky=0.5, pressure_mu=-0.3)
+    a = lateral_force(v, ["camber_brush", "pressure"], x)
+    b = lateral_force(v, ["pressure", "camber_brush"], x)
+    assert a.tobytes() == b.tobytes()

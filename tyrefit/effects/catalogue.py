@@ -13,7 +13,8 @@ Families
 ``load_friction``   degressive friction with load (a1)
 ``curvature_load``  curvature changing with load (a6)
 ``overload``        grip falling above the rated load (seed 003 Sec. 4.2; not PAC89)
-``camber``          camber thrust, shift and stiffness loss (a5, a8, a11; seed 001)
+``camber``          camber thrust, shift and stiffness loss (a5, a8, a11; seed 001); the variant
+                    ``camber_brush`` is the camber brush model's thrust (seed 001 Eq. 17-22)
 ``offsets``         ply steer and conicity shifts (a9, a10, a12, a13)
 ``pressure``        inflation pressure on stiffness and grip (not PAC89)
 ``speed``           travel speed on grip and stiffness (not PAC89)
@@ -30,11 +31,14 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
+import numpy as np
+
 from ..errors import DataError, close_matches
 from .base import DataSummary, Effect, ModelInputs, Param, PhysicsCard
 from .model import overload_factor, relative_factor
 
-__all__ = ["BASE", "BASE_NAMES", "EFFECTS", "FAMILIES", "get_effect", "parse_effects", "resolve_pac89"]
+__all__ = ["BASE", "BASE_NAMES", "EFFECTS", "FAMILIES", "get_effect", "parse_effects", "resolve_pac89",
+           "brush_camber_fade"]
 
 _DEG = 3.141592653589793 / 180.0
 
@@ -105,6 +109,16 @@ def _levels(attr: str, what: str, n: int = 2):
     return rule
 
 
+def _cambers_loads(n_camber: int, n_load: int):
+    def rule(s: DataSummary) -> str | None:
+        if len(s.camber_levels) < n_camber:
+            return f"needs >= {n_camber} camber levels (found {len(s.camber_levels)})"
+        if len(s.fz_levels) < n_load:
+            return f"needs >= {n_load} load levels for the camber-stiffness load law (found {len(s.fz_levels)})"
+        return None
+    return rule
+
+
 # --- modifiers (pure, vectorised; neutral -> multipliers exactly 1.0) -------------------
 def _scale_d(coef: dict, m) -> None:
     coef["a1"] = coef["a1"] * m
@@ -120,6 +134,56 @@ def _apply_overload_stiffness(coef: dict, v: Mapping, x: ModelInputs) -> None:
     _need(x, "fz", "rated_load")
     _scale_d(coef, overload_factor(x.fz, x.rated_load, v["overload_mu"]))
     coef["a3"] = coef["a3"] * overload_factor(x.fz, x.rated_load, v["overload_ky"])
+
+
+def brush_camber_fade(slip_angle, bcd, d):
+    """Share of the linear camber thrust left at a slip angle: (2 - 3 u_c + u_c^3)/4 (seed 001 Eq. 22).
+
+    Parameters
+    ----------
+    slip_angle : array_like
+        Slip angle [rad].
+    bcd : array_like
+        Cornering stiffness of the model [N/deg] (PAC89 BCD).
+    d : array_like
+        Peak force of the model [N] (PAC89 D, the friction limit mu Fz).
+
+    Returns
+    -------
+    ndarray
+        1 at zero slip, falling smoothly to 0 where the whole patch slides.
+
+    Notes
+    -----
+    In the brush model the camber term of the lateral force is
+    ``-(2 - 3 u_c + u_c^3)/4 K_yg sin(gamma)`` (Zhang et al., Eq. 22, with the
+    cube of the integrated Eq. 19; see :mod:`tyrefit.models.brush`), u_c the
+    slip point.  To first order in the camber the slip point is the pure-slip
+    one (the force is stationary in u_c, Eq. 21), and for a parabolic
+    length-direction pressure (Fiala's brush, lambda_x = 0) it is
+    ``u_c = 2 x - 1`` with ``x = K_y |tan(alpha)| / (3 mu Fz)`` clipped to 1;
+    the factor is then the smoothstep ``1 - 3 x^2 + 2 x^3``.  K_y and mu Fz are
+    taken from the PAC89 model at each point (BCD and D), so the thrust fades
+    with the model's own friction limit.
+    """
+    ky = np.asarray(bcd, dtype=float) / _DEG  # N/rad
+    x = np.clip(ky * np.abs(np.tan(slip_angle)) / (3.0 * np.maximum(np.asarray(d, dtype=float), 1e-9)), 0.0, 1.0)
+    return 1.0 - 3.0 * x**2 + 2.0 * x**3  # Zhang et al., Eq. 22 at u_c = 2x - 1 (parabolic pressure)
+
+
+def _apply_camber_brush(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    k = v["camber_brush_k"]
+    if np.all(np.asarray(k) == 0.0):
+        return  # neutral: the previous model, bit for bit
+    fzk = np.asarray(x.fz, dtype=float) * 1e-3
+    gdeg = np.asarray(x.camber, dtype=float) / _DEG
+    # the model's own cornering stiffness and friction limit (PAC89 units; see tyrefit.models.pac89)
+    z = fzk / coef["a4"]
+    bcd = coef["a3"] * (2.0 * z / (1.0 + z * z)) * (1.0 - coef["a5"] * np.abs(gdeg))
+    d = coef["a1"] * fzk**2 + coef["a2"] * fzk
+    kyg = k * fzk ** (1.5 + v["camber_brush_n"])  # K_yg [N/deg]: Zhang et al., Eq. 20 with a ~ Fz^(1/2)
+    # PAC89 sign: Sv > 0 is an ISO-W thrust to -y for a positive inclination, as a11 Fz gamma
+    coef["a13"] = coef["a13"] + kyg * (np.sin(x.camber) / _DEG) * brush_camber_fade(x.slip_angle, bcd, d)
 
 
 def _need(x: ModelInputs, what: str, ref: str) -> None:
@@ -160,6 +224,10 @@ _OV_MU = Param("overload_mu", 0.0, (-1.0, 3.0), (0.0, 1.0), "-", 0.3,
                "friction loss per rated load of overload: D (1 - k max(0, Fz - Fr)/Fr)")
 _OV_KY = Param("overload_ky", 0.0, (-1.0, 3.0), (0.0, 1.0), "-", 0.3,
                "cornering-stiffness loss per rated load of overload")
+_CB_K = Param("camber_brush_k", 0.0, (-200.0, 200.0), (0.0, 30.0), "N/(kN^1.5 deg)", 5.0,
+              "brush camber stiffness K_yg = k Fz^(3/2 + n) per deg at zero slip, Fz in kN (seed 001 Eq. 20)")
+_CB_N = Param("camber_brush_n", 0.0, (-1.5, 1.5), (-0.5, 0.8), "-", 0.2,
+              "load exponent of K_yg beyond 3/2 (the brush's 3 a2 + c3 - 3/2, a ~ q^a2, Re ~ q^-c3)")
 _P_KY = Param("pressure_ky", 0.0, (-5.0, 5.0), (-0.5, 1.0), "-", 0.3,
               "cornering-stiffness change per relative pressure change (MF 6.1 PPY1)")
 _P_MU = Param("pressure_mu", 0.0, (-5.0, 5.0), (-0.6, 0.3), "-", 0.2,
@@ -258,6 +326,36 @@ _NOT_PAC89_OVERLOAD = ("not representable in PAC89 exactly: D = a1 Fz^2 + a2 Fz 
                        "rating; MF 6.x (PDY2) is also smooth.")
 
 
+_CARD_CAMBER_BRUSH = PhysicsCard(
+    what=("The camber brush model's own camber term (Zhang et al., seed 001): on a leaning tyre the bristles "
+          "follow a parabola y = -(a^2 - x^2) sin(gamma)/(2 Re) through the patch (Eq. 18-19), which gives a "
+          "thrust -K_ygamma sin(gamma) at zero slip with K_ygamma = 2 a^3 k_y/(3 Re) (Eq. 20). The half-length a "
+          "grows with load (a ~ Fz^(1/2) for a classical tyre, a ~ q^a2 in Eq. 11), so K_ygamma grows like "
+          "Fz^(3/2) - faster than the linear a11 Fz gamma of PAC89 - and, as the sliding zone spreads from the "
+          "trailing edge, only the adhering part keeps its camber deflection: the thrust fades as "
+          "(2 - 3 u_c + u_c^3)/4 (Eq. 21-22) and vanishes when the whole patch slides, so the friction limit "
+          "mu Fz is never exceeded."),
+    size=("K_ygamma of 40-120 N/deg at 4-5 kN on passenger radials (camber_brush_k about 5-15 N/(kN^1.5 deg)); "
+          "tyrefit's 205/55R16 brush parameters give 79 N/deg at 4.5 kN and a load exponent of 2.1 "
+          "(camber_brush_n = 0.56, from a ~ q^0.7)."),
+    test=("The same slip sweeps at >= 3 camber angles and >= 2 loads; the fade shows in sweeps that reach "
+          "full sliding (|slip angle| >= 8 deg)."),
+    vehicle=("Camber thrust that grows faster than the load moves more lateral force to the outer, loaded "
+             "wheels in a corner and vanishes at the limit: static camber helps in the linear range, not "
+             "at the friction limit; the road-adhesion estimator of seed 001 uses exactly this term."),
+    sources=("Zhang et al. (seed 001) camber brush model, Eqs. 17-22 (Eq. 19 parabolic camber deflection, "
+             "Eq. 20 K_ygamma = 2 a^3 k/(3 Re), Eq. 21-22 slip point and camber term)",
+             "tyrefit.models.brush (camber_brush_forces, camber_stiffness) computes the same terms strip by "
+             "strip; tyrefit.brush_compare fits PAC89 to it"))
+
+_NOT_PAC89_CAMBER_BRUSH = (
+    "not representable in PAC89 exactly: PAC89 writes camber thrust as a vertical shift a11 Fz gamma, linear "
+    "in load and constant along the sweep (so at full sliding |Fy| exceeds mu Fz by a11 Fz gamma), plus a "
+    "horizontal shift a8 gamma, which fades with saturation but gives a zero-slip thrust BCD a8 gamma that "
+    "follows the cornering-stiffness load law, not a^3/Re. a8 and a11 (camber_thrust) absorb the thrust over "
+    "the fitted load range and are what the .tir gets; for the Fz^(3/2) law and the fade use MF 6.x "
+    "(PKY6/PKY7 camber stiffness with load, PEY5 camber in E) or the brush model itself (tyrefit.models.brush).")
+
 def _effects() -> list[Effect]:
     return [
         Effect("load_friction", "load_friction", "degressive friction with load", (_A1,),
@@ -281,6 +379,10 @@ def _effects() -> list[Effect]:
         Effect("camber_thrust", "camber", "camber thrust and shift", (_A8, _A11),
                ">= 2 camber levels", _cambers(2), _CARD_CAMBER, "fy0_vs_camber",
                pac89=("a8", "a11"), pac89_note="PAC89 a8, a11: written to the .tir."),
+        Effect("camber_brush", "camber", "camber thrust of the brush model (K_ygamma ~ Fz^(3/2), fading at sliding)",
+               (_CB_K, _CB_N), ">= 3 camber levels and >= 2 load levels", _cambers_loads(3, 2),
+               _CARD_CAMBER_BRUSH, "camber_stiffness_vs_fz", apply=_apply_camber_brush, pac89_approx=("a8", "a11"),
+               pac89_note=_NOT_PAC89_CAMBER_BRUSH, extra={"pac89_variant": "camber_thrust", "reads_factors": True}),
         Effect("offsets", "offsets", "ply steer and conicity shifts, load dependent", (_A9, _A10, _A12, _A13),
                "sweeps through zero in both slip directions at >= 2 load levels", _both_signs(2), _CARD_OFFSETS,
                "fy0_vs_fz", pac89=("a9", "a10", "a12", "a13"),

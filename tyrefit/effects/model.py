@@ -72,7 +72,9 @@ def coefficients(values: Mapping[str, object], effects: Iterable[Effect | str],
         PAC89 coefficients (missing ones are 0) and effect parameters
         (missing ones take their neutral value).
     effects : iterable of Effect or id
-        Effects in the model, applied in order.
+        Effects in the model, applied in order; an effect whose ``extra``
+        says ``reads_factors`` (it reads the cornering stiffness or the peak
+        force, e.g. ``camber_brush``) is applied after the others.
     inputs : ModelInputs
         Operating conditions (SI) and reference values.
 
@@ -83,7 +85,10 @@ def coefficients(values: Mapping[str, object], effects: Iterable[Effect | str],
         an effect varies them point by point.
     """
     coef: dict[str, object] = {name: values.get(name, 0.0) for name in pac89.LATERAL}
-    for e in _resolve(effects):
+    effs = _resolve(effects)
+    # effects that read the model's factors (BCD, D) go last, so they see every scaling of a1-a5
+    effs = [e for e in effs if not e.extra.get("reads_factors")] + [e for e in effs if e.extra.get("reads_factors")]
+    for e in effs:
         if e.apply is not None:
             e.apply(coef, {p.name: values.get(p.name, p.neutral) for p in e.params}, inputs)
     return coef

@@ -50,7 +50,9 @@ def sweep_characteristics(sweep, fz, slip_angle, fy, camber=None, pressure=None,
         [Pa], ``speed`` [m/s] (means), ``stiffness`` [N/rad] (-dFy/dalpha within
         +/-1 deg of zero slip where there are 5 points, positive for a normal tyre), ``fy0`` [N] (Fy at zero slip from
         the same local line), ``peak_mu`` [-] (mean over the two sides of the
-        largest |Fy|/Fz, smoothed over 5 points), ``slip_at_peak`` [rad].
+        largest |Fy|/Fz, smoothed over 5 points), ``slip_at_peak`` [rad],
+        ``camber_stiffness`` [N/deg] (-fy0 per degree of sin(camber), NaN
+        below 0.5 deg of camber; positive when the tyre pushes towards its lean).
     """
     sweep = np.asarray(sweep)
     cols = {"fz": fz, "slip_angle": slip_angle, "fy": fy, "camber": camber, "pressure": pressure, "speed": speed}
@@ -77,6 +79,11 @@ def sweep_characteristics(sweep, fz, slip_angle, fy, camber=None, pressure=None,
                 break
         row["stiffness"] = float(stiff)
         row["fy0"] = float(fy0)
+        # camber stiffness: zero-slip thrust per degree of inclination, ISO-W sign flipped so a tyre
+        # that pushes towards its lean is positive (only for sweeps at |camber| >= 0.5 deg)
+        g = row["camber"]
+        row["camber_stiffness"] = float(-fy0 / (np.sin(g) / _DEG)) if np.isfinite(g) and abs(g) >= 0.5 * _DEG \
+            else np.nan
         mus, slips = [], []
         ys = _smooth(y)
         for side in (1.0, -1.0):
@@ -112,7 +119,8 @@ class SignatureView:
 _Y = {"peak_mu": (1.0, "peak friction coefficient |Fy|/Fz [-]"),
       "stiffness": (_DEG, "cornering stiffness [N/deg]"),
       "fy0": (1.0, "Fy at zero slip angle [N]"),
-      "slip_at_peak": (1 / _DEG, "slip angle at the peak [deg]")}
+      "slip_at_peak": (1 / _DEG, "slip angle at the peak [deg]"),
+      "camber_stiffness": (1.0, "camber stiffness -Fy(0)/gamma [N/deg]")}
 _X = {"fz": (1e-3, "normal load Fz [kN]"), "camber": (1 / _DEG, "camber [deg]"),
       "pressure": (1e-3, "inflation pressure [kPa]"), "speed": (3.6, "speed [km/h]")}
 
@@ -122,6 +130,7 @@ SIGNATURES: dict[str, tuple[str, str]] = {
     "stiffness_vs_fz": ("stiffness", "fz"),
     "slip_at_peak_vs_fz": ("slip_at_peak", "fz"),
     "fy0_vs_camber": ("fy0", "camber"),
+    "camber_stiffness_vs_fz": ("camber_stiffness", "fz"),
     "fy0_vs_fz": ("fy0", "fz"),
     "stiffness_vs_pressure": ("stiffness", "pressure"),
     "peak_mu_vs_pressure": ("peak_mu", "pressure"),
