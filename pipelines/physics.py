@@ -1,9 +1,11 @@
 """Physics of seeds 001 and 002 on the bundled data.
 
 Runs ``tyrefit slip`` on the bundled slip-ratio sweeps (seed 002's slip
-characteristics) and ``tyrefit sim adhesion`` on the wet and dry roads with
+characteristics), ``tyrefit sim adhesion`` on the wet and dry roads with
 cambered wheels (seed 001's EKF with the improved and the original brush
-model), then links the reports.  No logic of its own.
+model) and :func:`tyrefit.brush_compare.compare_brush_pac89` (the camber brush
+model against PAC89: where the Magic Formula cannot follow), then links the
+reports.  No logic of its own.
 """
 
 from __future__ import annotations
@@ -12,8 +14,10 @@ import json
 import sys
 from pathlib import Path
 
+from tyrefit.brush_compare import compare_brush_pac89
 from tyrefit.cli import run_checked
 from tyrefit.datasets import data_path
+from tyrefit.io.outputs import write_text
 from tyrefit.report import Report
 
 #: (road mu, camber on the left wheels [deg]) shown in the demo
@@ -42,9 +46,18 @@ def main(out_dir: str | Path = "reports/physics") -> dict:
                      "estimates fl fr rl rr": " ".join(f"{e:.3f}" for e in res["estimates"]),
                      "worst error [%]": round(worst, 2), "converged [s]": res["converged_s"],
                      "report": f'<a href="{name}/index.html">{name}</a>'})
+    # the camber brush model against PAC89 (seed 001), a sub-report of its own
+    cmp = compare_brush_pac89()
+    sub = Report("Camber brush model vs PAC89 (seed 001)",
+                 "Generated from tyrefit.models.brush with its default (illustrative 205/55R16) parameters; "
+                 "no measurement is involved.")
+    cmp.report_section(sub)
+    sub.save(out / "brush_pac89")
+    write_text(out / "brush_pac89.json", json.dumps(cmp.to_dict(), indent=2, default=float) + "\n", force=True)
     r = Report("Physics of seeds 001 and 002",
-               "Slip characteristics of the bundled slip-ratio sweeps (seed 002) and extended-Kalman-filter "
-               "road-adhesion estimation with the camber brush model (seed 001). Bundled data are synthetic.")
+               "Slip characteristics of the bundled slip-ratio sweeps (seed 002), extended-Kalman-filter "
+               "road-adhesion estimation with the camber brush model (seed 001) and the camber brush model "
+               "against PAC89 (seed 001). Bundled data are synthetic.")
     r.h2("Slip characteristics (seed 002)")
     r.raw('<p><a href="slip/index.html">slip report</a></p>')
     r.table(slip.get("loads", [slip]), columns=["fz", "mu_peak", "k", "characteristic_slip", "characteristic_mu"])
@@ -52,10 +65,17 @@ def main(out_dir: str | Path = "reports/physics") -> dict:
     r.raw("<table><tr>" + "".join(f"<th>{k}</th>" for k in rows[0]) + "</tr>"
           + "".join("<tr>" + "".join(f"<td>{v}</td>" for v in row.values()) + "</tr>" for row in rows)
           + "</table>")
+    r.h2("Camber brush model vs PAC89 (seed 001)")
+    r.raw('<p><a href="brush_pac89/index.html">camber brush model vs PAC89 report</a></p>')
+    r.p(f"PAC89 fitted to the improved camber brush model: RMSE {cmp.improved.rmse:.0f} N "
+        f"({cmp.improved.rmse_pct:.1f} % of the largest peak); to the original brush model: RMSE "
+        f"{cmp.original.rmse:.0f} N ({cmp.original.rmse_pct:.1f} %).")
+    r.bullets(cmp.findings())
     r.save(out)
     return {"headline": f"EKF worst wheel error {max(errors):.1f} % over {len(rows)} road/camber cases; "
-                        f"slip characteristics at {len(slip.get('loads', [slip]))} loads",
-            "adhesion_worst_error_pct": max(errors)}
+                        f"slip characteristics at {len(slip.get('loads', [slip]))} loads; PAC89 follows the "
+                        f"camber brush model to {cmp.improved.rmse_pct:.1f} % of peak",
+            "adhesion_worst_error_pct": max(errors), "brush_pac89_rmse_pct": cmp.improved.rmse_pct}
 
 
 if __name__ == "__main__":
