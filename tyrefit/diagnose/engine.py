@@ -27,10 +27,10 @@ from ..effects import EFFECTS, Effect, get_effect, parse_effects
 from ..errors import DataError, FitError
 from .data import SweepData, prepare
 from .fitter import FitOut, ModelSpec, fit, fit_start
-from .stats import (cluster_bootstrap_prob, cluster_sums, holm, level_folds, noise_floor, score_test,
-                    sweep_folds)
+from .stats import (cluster_bootstrap_prob, cluster_sums, crossval_surface, holm, level_folds, noise_floor,
+                    score_test, score_test_groups, sweep_folds)
 
-__all__ = ["Settings", "Step", "Candidate", "diagnose", "pac89_effects"]
+__all__ = ["Settings", "Step", "Candidate", "diagnose", "pac89_effects", "MISFIT_RATIO", "MISFIT_SHARE"]
 
 
 @dataclass(frozen=True)
@@ -390,7 +390,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         cover = [m.id for m in final.effects if m.family == e.family and set(e.param_names) <= set(m.param_names)]
         if cover and c.status != "variant not distinguishable":
             c.status, c.reason = "covered", f"its terms are part of {cover[0]}, which is in the model"
-    unexplained = _unexplained(eng, steps[-1], floor, s)
+    unexplained = _unexplained(eng, steps[-1], floor, s, cands)
     export = _pac89_export(data, steps[-1], eng.fixed)
     return Diagnosis(data=data, start=start_ids, accepted=accepted, steps=steps, candidates=cands,
                      noise_floor=floor, noise_floor_per_sweep=floor_per_sweep, settings=s, seed=seed,
@@ -401,14 +401,18 @@ def pac89_effects(effect_ids) -> list[str]:
     """The effects a PAC89 ``.tir`` can carry for a model with ``effect_ids``.
 
     Representable effects are kept; an effect PAC89 can only approximate
-    through ``a1`` (overload) becomes ``load_friction``; pressure and speed
-    terms are dropped (no PAC89 input for them).
+    through ``a1`` (overload) becomes ``load_friction``; one that names a
+    representable variant of its family (``extra['pac89_variant']``, e.g.
+    ``camber_brush`` -> ``camber_thrust``) becomes that variant; pressure and
+    speed terms are dropped (no PAC89 input for them).
     """
     out: list[str] = []
     for eid in effect_ids:
         e = EFFECTS[eid]
         if e.representable:
             keep = eid
+        elif e.extra.get("pac89_variant"):
+            keep = e.extra["pac89_variant"]
         elif "a1" in e.pac89_approx:
             keep = "load_friction"
         else:
@@ -432,30 +436,172 @@ def _pac89_export(data: SweepData, final: Step, fixed: dict) -> dict:
             "same_as_final": ids == list(final.effects)}
 
 
-def _unexplained(eng: _Engine, step: Step, floor: float, s: Settings) -> dict:
-    """Test the final residuals for structure no effect explained, and say where it is."""
+#: held-out RMSE above this multiple of the within-sweep noise floor calls for the misfit check.  A model
+#: with nothing missing reaches about 1.0 x the floor with independent noise and about 1.25 x with
+#: sweep-to-sweep offsets the within-sweep floor cannot see (the hidden-effect suite's ``offsets`` noise:
+#: 0.6 sigma offsets, 0.8 sigma within; measured 1.17-1.38 on its null cases); the bundled passenger tyre
+#: ends at 1.18.  1.5 is clear of both.
+MISFIT_RATIO = 1.5
+#: share of the final residual's variance that a smooth surface fitted on other sweeps must predict on
+#: held-out sweeps to call the excess a systematic misfit (nulls of every noise model: <= -0.07; the camber
+#: brush data: 0.4-0.9 depending on the noise)
+MISFIT_SHARE = 0.25
+
+_CONDITION_WORDS = {
+    "common": "common to all sweeps (the model's curve cannot follow the measured one along the slip axis)",
+    "fz": "changing with load (load laws of cornering stiffness, friction or curvature)",
+    "camber": "changing with camber (camber thrust, shift or stiffness with camber)",
+    "pressure": "changing with inflation pressure",
+    "speed": "changing with speed",
+    "interaction": "changing with combinations of the conditions",
+}
+
+
+def _condition_terms(d: SweepData) -> list[tuple[str, np.ndarray]]:
+    """Smooth terms in the condition levels: (group, values) with z in [-1, 1] per factor, z^2, pair products."""
+    terms, lin = [("common", np.ones(d.n))], []
+    for f, lv in d.levels.items():
+        lv = np.asarray(lv, dtype=float)
+        if len(lv) < 2 or not np.all(np.isfinite(lv)):
+            continue
+        z = (lv[d.level_index[f]] - 0.5 * (lv.min() + lv.max())) / (0.5 * (lv.max() - lv.min()))
+        terms.append((f, z))
+        lin.append(z)
+        if len(lv) >= 3:
+            terms.append((f, z * z - np.mean(z * z)))
+    for i in range(len(lin)):
+        for j in range(i + 1, len(lin)):
+            terms.append(("interaction", lin[i] * lin[j]))
+    return terms
+
+
+def _surface_basis(d: SweepData, u: np.ndarray) -> tuple[np.ndarray, list[str]]:
+    """Cubic B-splines in the normalised slip angle (knots every 10 % of the range) times the condition terms."""
+    from .stats import _bspline_basis
+
+    S = _bspline_basis(np.r_[-1.0, u, 1.0], 0.2)[1:-1]
+    terms = _condition_terms(d)
+    C = np.column_stack([t for _, t in terms])
+    B = (S[:, :, None] * C[:, None, :]).reshape(d.n, -1)
+    groups = [g for _ in range(S.shape[1]) for g, _ in terms]
+    return B, groups
+
+
+def _misfit(eng: _Engine, step: Step, floor: float, u: np.ndarray, cands: dict | None) -> dict:
+    """Is the excess of the held-out error over the noise floor systematic, and where is it?"""
+    d = eng.data
+    x = d.inputs
+    r = step.fit.resid
+    ratio = step.rmse_heldout / floor
+    out = {"rmse_heldout_N": step.rmse_heldout, "noise_floor_N": floor, "ratio": ratio,
+           "threshold_ratio": MISFIT_RATIO, "threshold_share": MISFIT_SHARE, "checked": False,
+           "systematic": False}
+    if ratio <= MISFIT_RATIO or eng.G < 6:
+        return out
+    B, groups = _surface_basis(d, u)
+    cv = crossval_surface(B, r, eng.folds, d.sweep)
+    out.update(checked=True, predictable_share=cv["share"], predictable_rmse_N=cv["predictable_rmse"],
+               systematic=bool(cv["share"] >= MISFIT_SHARE))
+    fitted = cv["fitted"]
+    # what: variance of each condition group's part of the fitted surface; odd and even parts in slip
+    coef = cv["coef"]
+    groups = np.array(groups)
+    var = {g: float(np.var(B[:, groups == g] @ coef[groups == g])) for g in dict.fromkeys(groups)}
+    tot = sum(var.values()) or 1.0
+    out["components"] = {g: v / tot for g, v in sorted(var.items(), key=lambda kv: -kv[1])}
+    Bm, _ = _surface_basis(d, -u)
+    mirror = Bm @ coef
+    odd, even = 0.5 * (fitted - mirror), 0.5 * (fitted + mirror)
+    out["odd_share"] = float(np.mean(odd**2) / max(np.mean(odd**2) + np.mean(even**2), 1e-300))
+    # where: slip ranges (mean |surface| over the sweeps) and cells (RMSE of the surface)
+    ext = max(np.max(np.abs(x.slip_angle)), 1e-9)
+    edges = np.linspace(-ext, ext, 9)
+    bins = []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        m = (x.slip_angle >= lo) & (x.slip_angle <= hi)
+        if m.sum() >= 5:
+            bins.append({"slip_deg": [float(np.degrees(lo)), float(np.degrees(hi))],
+                         "mean_abs_N": float(np.mean(np.abs(fitted[m]))), "mean_N": float(np.mean(fitted[m]))})
+    top = max(b["mean_abs_N"] for b in bins) if bins else 0.0
+    out["slip_ranges"] = sorted((b for b in bins if b["mean_abs_N"] >= 0.75 * top), key=lambda b: -b["mean_abs_N"])
+    cells = []
+    for c in np.unique(d.cell):
+        m = d.cell == c
+        cells.append({"fz_N": float(np.median(x.fz[m])), "camber_deg": float(np.degrees(np.median(x.camber[m]))),
+                      "pressure_kPa": float(np.median(x.pressure[m]) / 1e3) if x.pressure is not None else None,
+                      "rmse_N": float(np.sqrt(np.mean(r[m] ** 2))),
+                      "systematic_rmse_N": float(np.sqrt(np.mean(fitted[m] ** 2)))})
+    cells.sort(key=lambda z: -z["systematic_rmse_N"])
+    out["cells"] = cells[:5]
+    # one effect per family the data could not test (the first in catalogue order)
+    fams: dict[str, str] = {}
+    for eid, c in (cands or {}).items():
+        if c.status == "not testable with these data":
+            fams.setdefault(c.family, eid)
+    out["not_testable"] = list(fams.values())
+    return out
+
+
+def _misfit_text(mf: dict, cands: dict | None) -> tuple[str, list[str]]:
+    """Summary and 'where' lines of a systematic misfit."""
+    what = "the model's curve shape" if mf["odd_share"] >= 0.5 else "the forces at zero slip (shifts of the curve)"
+    comp = [(g, v) for g, v in mf["components"].items() if v >= 0.1]
+    parts = "; ".join(f"{100 * v:.0f} % {_CONDITION_WORDS[g]}" for g, v in comp[:3])
+    where = []
+    if mf["slip_ranges"]:
+        where.append("slip ranges " + "; ".join(
+            f"{b['slip_deg'][0]:.1f} to {b['slip_deg'][1]:.1f} deg (mean |error| {b['mean_abs_N']:.0f} N)"
+            for b in mf["slip_ranges"][:3]))
+    if mf["cells"]:
+        where.append("cells " + "; ".join(
+            f"Fz {c['fz_N'] / 1e3:.1f} kN, camber {c['camber_deg']:.1f} deg"
+            + (f", {c['pressure_kPa']:.0f} kPa" if c["pressure_kPa"] is not None else "")
+            + f" (RMSE {c['rmse_N']:.0f} N)" for c in mf["cells"][:3]))
+    text = (f"systematic misfit not explained by any catalogue effect: {what} "
+            f"(held-out RMSE {mf['rmse_heldout_N']:.1f} N = {mf['ratio']:.1f} x the noise floor "
+            f"{mf['noise_floor_N']:.1f} N; other sweeps predict {100 * mf['predictable_share']:.0f} % of the "
+            f"residual, {mf['predictable_rmse_N']:.0f} N RMSE; {100 * mf['odd_share']:.0f} % odd in slip"
+            + (f"; {parts}" if parts else "") + ")")
+    if where:
+        text += ": largest at " + "; ".join(where)
+    if mf["not_testable"]:
+        text += ("; families these data could not test (one of them may be it): "
+                 + ", ".join(f"{cands[e].family} ({cands[e].reason})" for e in mf["not_testable"]))
+    return text, where
+
+
+def _unexplained(eng: _Engine, step: Step, floor: float, s: Settings, cands: dict | None = None) -> dict:
+    """Test the final residuals for structure no effect explained, and say where it is.
+
+    Two checks.  (1) An omnibus cluster score test of smooth residual
+    directions: Legendre polynomials of the normalised slip angle (orders 0-4
+    and 5-9) and orders 0-4 times each condition (load, camber, pressure,
+    speed), one group each, at most G/3 directions per group (G sweeps),
+    combined by min-p over the groups (:func:`~tyrefit.diagnose.stats.score_test_groups`).
+    (2) When the held-out RMSE stays above :data:`MISFIT_RATIO` x the noise
+    floor, whether the excess is *systematic*: a smooth surface over slip and
+    conditions, fitted to other sweeps, must predict at least
+    :data:`MISFIT_SHARE` of the residual variance of held-out sweeps
+    (:func:`~tyrefit.diagnose.stats.crossval_surface`); otherwise the excess
+    is noise correlated along the sweeps, which no effect removes.  Either
+    way the summary says how far above the floor the model ends.
+    """
     d = eng.data
     x = d.inputs
     r = step.fit.resid
     ext = max(np.max(np.abs(x.slip_angle)), 1e-9)
     u = np.clip(x.slip_angle / ext, -1, 1)
-    P = np.polynomial.legendre.legvander(u, 4)  # P0..P4 of the normalised slip angle
-    cols = [P]
-    fz = x.fz
-    if np.ptp(fz) > 0:
-        z = (fz - fz.mean()) / np.ptp(fz)
-        cols.append(P[:, :4] * z[:, None])
-    if np.ptp(x.camber) > 0:
-        g = (x.camber - x.camber.mean()) / np.ptp(x.camber)
-        cols.append(P[:, :3] * g[:, None])
-    if x.pressure is not None and np.ptp(x.pressure) > 0:
-        p = (x.pressure - x.pressure.mean()) / np.ptp(x.pressure)
-        cols.append(P[:, :3] * p[:, None])
-    B = np.hstack(cols)
-    q = min(B.shape[1], max(1, eng.G // 3))
-    B = B[:, :q]
+    P = np.polynomial.legendre.legvander(u, 9)  # P0..P9 of the normalised slip angle
+    q = max(1, eng.G // 3)
+    groups = {"slip shape (orders 0-4)": P[:, :min(5, q)], "slip shape (orders 5-9)": P[:, 5:5 + min(5, q)]}
+    names = {"fz": "load", "camber": "camber", "pressure": "pressure", "speed": "speed"}
+    for f, lv in d.levels.items():
+        if len(lv) >= 2 and np.all(np.isfinite(lv)):
+            z = (lv[d.level_index[f]] - np.mean(lv)) / np.ptp(lv)
+            groups[f"slip x {names.get(f, f)}"] = (P[:, :5] * z[:, None])[:, :q]
     _, J = step.spec.jacobian(step.fit.theta, x)
-    t = score_test(J, B, r, d.sweep, eng.G, eng.rng, s.n_boot)
+    t = score_test_groups(J, list(groups.values()), r, d.sweep, eng.G, eng.rng, s.n_boot)
+    n_dir = int(sum(t.dfs))
     # where: condition cells and slip ranges with the largest systematic error
     rows = []
     for c in np.unique(d.cell):
@@ -497,18 +643,33 @@ def _unexplained(eng: _Engine, step: Step, floor: float, s: Settings) -> dict:
             f"{b['slip_deg'][0]:.1f} to {b['slip_deg'][1]:.1f} deg (mean residual {b['mean_N']:.0f} N)"
             for b in flagged_bins[:3]))
     found = t.p_value < s.alpha
+    mf = _misfit(eng, step, floor, u, cands)
+    omni = {"p_value": t.p_value, "directions": n_dir,
+            "omnibus_groups": {k: {"p_value": pv, "directions": df} for k, pv, df in zip(groups, t.p_groups, t.dfs)},
+            "cells": rows[:10], "slip_bins": bins, "misfit": mf}
+    level = (f"held-out RMSE {step.rmse_heldout:.1f} N = {mf['ratio']:.2f} x the within-sweep noise floor "
+             f"{floor:.1f} N")
     if 2.0 ** (1 - eng.G) > s.alpha:
-        text = (f"cannot be checked: only {eng.G} sweeps, too few for a sweep-robust test"
+        text = (f"cannot be checked: only {eng.G} sweeps, too few for a sweep-robust test ({level})"
                 + ("; largest local errors: " + "; ".join(where) if where else ""))
-        return {"p_value": t.p_value, "directions": int(q), "structure_found": False, "where": where,
-                "summary": text, "cells": rows[:10], "slip_bins": bins}
+        return {**omni, "structure_found": False, "where": where, "summary": text}
+    if mf["systematic"]:
+        text, mwhere = _misfit_text(mf, cands)
+        if found:
+            text += f" (omnibus cluster score test p = {t.p_value:.3g})"
+        return {**omni, "structure_found": True, "where": mwhere, "summary": text}
     if found:
-        text = (f"structure remains (omnibus cluster score test p = {t.p_value:.3g}): "
+        text = (f"structure remains (omnibus cluster score test p = {t.p_value:.3g}; {level}): "
                 + ("; ".join(where) if where else "spread thinly over slip and load; no single cell stands out"))
+    elif mf["checked"]:
+        text = (f"no systematic structure, but the {level}: other sweeps do not predict the excess "
+                f"({100 * mf['predictable_share']:.0f} % of the residual variance, {100 * MISFIT_SHARE:.0f} % "
+                "needed), so it is noise correlated along the sweeps or sweep-to-sweep offsets (rig drift), "
+                "which the within-sweep floor does not count and no model effect removes "
+                f"(omnibus cluster score test p = {t.p_value:.3g})")
     else:
         text = (f"no structure detected beyond the noise (omnibus cluster score test p = {t.p_value:.3g}, "
-                f"{q} smooth slip x condition directions)")
+                f"{n_dir} smooth slip x condition directions; {level})")
         if where:
             text += "; largest local errors: " + "; ".join(where)
-    return {"p_value": t.p_value, "directions": int(q), "structure_found": bool(found), "where": where,
-            "summary": text, "cells": rows[:10], "slip_bins": bins}
+    return {**omni, "structure_found": bool(found), "where": where, "summary": text}

@@ -188,6 +188,29 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
     r.h2("7. Structure still unexplained")
     u = dg.unexplained
     r.p(u.get("summary", ""), cls="warn" if u.get("structure_found") else "note")
+    mf = u.get("misfit") or {}
+    if mf:
+        r.p(f"How far the final model ends above the noise: held-out RMSE {mf['rmse_heldout_N']:.1f} N is "
+            f"{mf['ratio']:.2f} x the within-sweep noise floor {mf['noise_floor_N']:.1f} N. Above "
+            f"{mf['threshold_ratio']:g} x (a model with nothing missing ends near 1.0 x with independent noise and "
+            "about 1.25 x with sweep-to-sweep offsets) a smooth surface over slip and conditions is fitted to the "
+            "final residuals of some sweeps and asked to predict the others: a systematic misfit carries over "
+            f"(at least {100 * mf['threshold_share']:.0f} % of the residual variance predicted), noise correlated "
+            "along a sweep does not."
+            + (f" Here it predicts {100 * mf['predictable_share']:.0f} % "
+               f"({mf['predictable_rmse_N']:.0f} N RMSE)." if mf.get("checked") else ""),
+            cls="warn" if mf.get("systematic") else None)
+        if mf.get("systematic"):
+            r.table([{"part of the systematic error": k, "share [%]": 100 * v} for k, v in mf["components"].items()]
+                    + [{"part of the systematic error": "odd in slip (stiffness, friction, shape)",
+                        "share [%]": 100 * mf["odd_share"]}], digits=3,
+                    caption="what the predictable part of the residual depends on (variance shares)")
+            r.table(pd.DataFrame(mf["cells"]), digits=3, caption="cells with the largest systematic error")
+    if u.get("omnibus_groups"):
+        r.table([{"directions": k, "number": v["directions"], "p (alone)": v["p_value"]}
+                 for k, v in u["omnibus_groups"].items()], digits=3,
+                caption=f"omnibus cluster score test by group of smooth directions (combined by min-p: "
+                        f"p = {_fmt(u.get('p_value'))})")
     if u.get("cells"):
         r.table(pd.DataFrame(u["cells"][:6]), digits=3, caption="cells with the largest error (final model)")
     if u.get("slip_bins"):
