@@ -85,7 +85,8 @@ def test_where_pac89_cannot_follow(cmp):
     assert L["ky0_pac89"].iloc[0] > L["ky0_brush"].iloc[0] and L["ky0_pac89"].iloc[-1] < L["ky0_brush"].iloc[-1]
     # and the global fit is worse than a fit per load: the load laws, not the shape, cost the most
     assert m.rmse > 2 * np.sqrt(np.mean(L["rmse_single_N"] ** 2))
-    assert L["rmse_N"].iloc[0] > 2 * L["rmse_single_N"].iloc[0] and L["rmse_N"].iloc[-1] > 2 * L["rmse_single_N"].iloc[-1]
+    for i in (0, -1):  # the lightest and the heaviest load
+        assert L["rmse_N"].iloc[i] > 2 * L["rmse_single_N"].iloc[i]
     # camber at full sliding: the brush's camber effect fades (Eq. 22), PAC89's a11 Fz gamma does not
     c = m.cells[(m.cells["camber_deg"] > 0)]
     assert np.all(np.abs(c["dfy_sat_brush_N"]) < 0.25 * np.abs(c["fy0_brush_N"]))

@@ -302,3 +302,26 @@ def test_camber_brush_reads_the_factors_after_every_scaling():
     a = lateral_force(v, ["camber_brush", "pressure"], x)
     b = lateral_force(v, ["pressure", "camber_brush"], x)
     assert a.tobytes() == b.tobytes()
+
+
+def test_camber_stiffness_characteristic_and_its_signature():
+    import matplotlib.pyplot as plt
+
+    a = np.linspace(-12, 12, 49) * DEG
+    rows = []
+    for k, (f, c) in enumerate([(f, c) for f in (3e3, 6e3) for c in (-3, 0, 3)]):
+        x = ModelInputs(fz=np.full_like(a, f), slip_angle=a, camber=np.full_like(a, c * DEG))
+        rows.append((k, x, lateral_force(dict(BASE, camber_brush_k=8.0), ["camber_brush"], x)))
+    sw = np.concatenate([np.full(a.size, k) for k, _, _ in rows])
+    fz, al, cam, fy = (np.concatenate(v) for v in zip(*[(x.fz, x.slip_angle, x.camber, y) for _, x, y in rows]))
+    ch = sweep_characteristics(sw, fz, al, fy, cam)
+    assert ch.loc[ch["camber"] == 0, "camber_stiffness"].isna().all()
+    cs = ch[ch["camber"] != 0]
+    # K_yg = k Fz^1.5 per degree (Eq. 20 law of the variant), from the local line through zero slip
+    np.testing.assert_allclose(cs["camber_stiffness"], 8.0 * (cs["fz"] / 1e3) ** 1.5, rtol=0.02)  # fade within 1 deg
+    fy0 = lateral_force(BASE, [], ModelInputs(fz=fz, slip_angle=al, camber=cam))
+    base = sweep_characteristics(sw, fz, al, fy0, cam)
+    ax = get_effect("camber_brush").plot_signature(SignatureView(ch, base, ch))
+    assert ax.get_xlabel() == "normal load Fz [kN]" and "camber stiffness" in ax.get_ylabel()
+    assert not any("0 deg" in t.get_text() and "-" not in t.get_text() for t in ax.get_legend().get_texts())
+    plt.close("all")

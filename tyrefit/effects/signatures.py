@@ -180,7 +180,8 @@ def plot(effect, view: SignatureView, ax=None):
     d["_x"] = _levels(d[xc], _TOL[xc])
     d["_g"] = _levels(d[group], _TOL[group]) if group else 0.0
     cmap = plt.get_cmap("viridis")
-    groups = sorted(d["_g"].dropna().unique())
+    # groups where the characteristic is defined (camber stiffness has no value at zero camber)
+    groups = sorted(g for g in d["_g"].dropna().unique() if d.loc[d["_g"] == g, ych].notna().any())
     for i, g in enumerate(groups):
         col = cmap(i / max(len(groups) - 1, 1))
         m = d["_g"] == g
