@@ -207,3 +207,27 @@ def test_static_needs_patch_length(tmp_path):
         check_fittable(st)
     with pytest.raises(ColumnError, match=r"without a 'length' column"):
         check_fittable(st, patch=_patch(tmp_path, lengths=False))
+
+
+def test_fast_numeric_path_gives_the_same_dataset_as_the_careful_path(tmp_path, monkeypatch):
+    """pandas' tokenizer (all-numeric files) and the csv-module path must agree exactly."""
+    import numpy as np
+
+    from tyrefit.io import readers
+
+    rng = np.random.default_rng(1)
+    rows = ["# synthetic", "run,fz [kN],slip_angle [deg],fy [N]"]
+    for run, fz in enumerate([2.0, 4.0, 6.0]):
+        for a in np.linspace(-12, 12, 49):
+            fz_m = fz * (1 + 0.001 * rng.standard_normal())
+            rows.append(f"{run},{fz_m!r}, {a:.3f} ,{-900 * fz * np.tanh(a / 4) + rng.standard_normal():.6g}")
+    p = tmp_path / "sweeps.csv"
+    p.write_text("\n".join(rows) + "\n")
+    real, used = readers._parse_numeric_fast, []
+    monkeypatch.setattr(readers, "_parse_numeric_fast", lambda *a: used.append(real(*a)) or used[-1])
+    fast = readers.read_data(p)
+    assert used and used[0] is not None  # the fast path did read this file
+    monkeypatch.setattr(readers, "_parse_numeric_fast", lambda *a: None)
+    slow = readers.read_data(p)
+    assert fast.kind == slow.kind == "slip_angle"
+    pd.testing.assert_frame_equal(fast.df, slow.df, check_exact=True)

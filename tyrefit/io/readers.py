@@ -417,6 +417,32 @@ def parse_cells(p: Path, name: str, header: str, cells: np.ndarray, lines: np.nd
     return num
 
 
+def _parse_numeric_fast(p: Path, kept: list[str], lines: list[int], delim: str) -> "RawTable | None":
+    """pandas' C tokenizer for the common case: every data cell a plain number.
+
+    Returns None (and the careful path below parses the file, with its
+    line-and-column messages) unless every row has the header's cell count and
+    every cell is a finite-or-inf number; values are exactly Python's float().
+    """
+    if '"' in kept[0] or "'" in kept[0]:
+        return None  # quoted header cells: leave them to the csv module
+    header = kept[0].split(delim)
+    if len(kept) < 2 or not header:
+        return None
+    try:
+        arr = pd.read_csv(io.StringIO("\n".join(kept[1:])), sep=delim, header=None, dtype=float, engine="c",
+                          skip_blank_lines=False).to_numpy()
+    except (ValueError, TypeError, pd.errors.ParserError, csv.Error, OverflowError):
+        return None
+    if arr.shape != (len(kept) - 1, len(header)) or np.isnan(arr).any():
+        return None
+    header = [h.strip() for h in header]
+    names, units, _ = map_headers(p, header)
+    line_arr = np.asarray(lines[1:])
+    values = {name: np.ascontiguousarray(arr[:, j]) for j, name in enumerate(names)}
+    return RawTable("csv", values, dict(zip(names, header)), dict(zip(names, units)), line_arr)
+
+
 def parse_csv(p: Path, text: str) -> RawTable:
     """Parse a CSV with ``name [unit]`` headers (comma, semicolon or tab)."""
     kept: list[str] = []
@@ -431,6 +457,9 @@ def parse_csv(p: Path, text: str) -> RawTable:
         raise FormatError(f"{p}: no header line (only comments); a CSV needs a header like 'fz [N],fy [N],...'")
     first = kept[0]
     delim = "\t" if "\t" in first else (";" if first.count(";") > first.count(",") else ",")
+    fast = _parse_numeric_fast(p, kept, lines, delim)
+    if fast is not None:
+        return fast
     try:
         rows = list(csv.reader(io.StringIO("\n".join(kept)), delimiter=delim))
     except csv.Error as exc:  # e.g. a cell longer than the csv module's field limit
