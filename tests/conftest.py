@@ -2,6 +2,8 @@
 
 import os
 
+import pytest
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -14,3 +16,15 @@ settings.register_profile("ci", max_examples=200, deadline=None,
 settings.register_profile("long", max_examples=5000, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+@pytest.fixture(scope="session")
+def axles():
+    """The synthetic soft and hard tyres' true PAC89 at the default vehicle's static wheel loads."""
+    from tyrefit.sim.tyres import AxleTyre
+    from tyrefit.sim.vehicle import DEFAULT_VEHICLE as P
+    from tyrefit.synthetic.vehicle_tyres import true_tyre
+
+    soft, hard = true_tyre("soft"), true_tyre("hard")
+    return {"soft_f": AxleTyre(soft, P.axle_load_front / 2), "soft_r": AxleTyre(soft, P.axle_load_rear / 2),
+            "hard_f": AxleTyre(hard, P.axle_load_front / 2)}

@@ -286,7 +286,7 @@ def test_eq2_minus_branch_for_saturating_curve():
 def test_no_peak_fallback():
     # heavy truck tyre: the peak lies beyond the tested 12 deg
     x = np.linspace(-12, 12, 97)
-    B, C, D, E = 0.05, 1.3, 0.8, 0.0
+    B, C, D = 0.05, 1.3, 0.8  # E = 0: the formula below is the Magic Formula with no curvature
     y = D * np.sin(C * np.arctan(B * x))
     e = estimate_sweep(x, y)
     assert e.method == "no peak: fallback" and not e.has_peak

@@ -1,6 +1,5 @@
 """``tyrefit fit``: files in, .tir / JSON / report out; static and --effects paths."""
 
-import json
 import math
 import sys
 import types

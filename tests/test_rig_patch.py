@@ -6,7 +6,7 @@ import pytest
 
 from tyrefit.errors import ColumnError, DataError
 from tyrefit.nomenclature import G0
-from tyrefit.rig.patch import exp_rise, fit_exp_rise, fit_patch, fit_two_gradient, two_gradient
+from tyrefit.rig.patch import exp_rise, fit_patch, fit_two_gradient, two_gradient
 from tyrefit.synthetic import truck as T
 
 

@@ -10,18 +10,9 @@ from tyrefit.sim.allocator import (AxleLimits, CharacteristicSlipLimit, CurveCha
                                    base_forces_from_motion, greedy_search, optimal_front_force,
                                    resolve_slip_limit, split_no_steering, steering_split)
 from tyrefit.sim.emission import DEFAULT_EMISSION, QuadraticEmission
-from tyrefit.sim.tyres import AxleTyre
 from tyrefit.sim.vehicle import DEFAULT_VEHICLE, VehicleModel
-from tyrefit.synthetic.vehicle_tyres import true_tyre
 
 P = DEFAULT_VEHICLE
-
-
-@pytest.fixture(scope="module")
-def axles():
-    soft, hard = true_tyre("soft"), true_tyre("hard")
-    return {"soft_f": AxleTyre(soft, P.axle_load_front / 2), "soft_r": AxleTyre(soft, P.axle_load_rear / 2),
-            "hard_f": AxleTyre(hard, P.axle_load_front / 2)}
 
 
 # ---------------------------------------------------------------- closed form (Eq. 30)

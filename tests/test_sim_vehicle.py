@@ -14,13 +14,6 @@ from tyrefit.synthetic.vehicle_tyres import true_tyre
 P = DEFAULT_VEHICLE
 
 
-@pytest.fixture(scope="module")
-def axles():
-    soft, hard = true_tyre("soft"), true_tyre("hard")
-    return {"soft_f": AxleTyre(soft, P.axle_load_front / 2), "soft_r": AxleTyre(soft, P.axle_load_rear / 2),
-            "hard_f": AxleTyre(hard, P.axle_load_front / 2)}
-
-
 # ---------------------------------------------------------------- axle tyres
 
 def test_axle_tables_match_the_pac89_model(axles):

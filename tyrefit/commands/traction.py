@@ -19,7 +19,6 @@ treadwear, stopping_distance_m, initial_speed_mps, mu, mu_fit),
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 

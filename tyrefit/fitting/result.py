@@ -28,7 +28,6 @@ import numpy as np
 import pandas as pd
 
 from .. import __version__
-from ..models import pac89
 from ..tyre import Pac89Tyre
 
 __all__ = ["FitResult"]
@@ -249,7 +248,7 @@ class FitResult:
         for name, s in self.stats.items():
             lo, hi = s["fz_range"]
             rows.append({"part": name, "points": s["n"], "sweeps": s["sweeps"], "Fz range [N]": f"{lo:.0f}–{hi:.0f}",
-                         f"RMSE": f"{s['rmse']:.4g} {s['unit']}", "R²": s["r2"],
+                         "RMSE": f"{s['rmse']:.4g} {s['unit']}", "R²": s["r2"],
                          "noise floor": f"{s['noise_floor']:.3g} {s['unit']}",
                          "Eq. 5 cost Σ|Δμ|": s["eq5_cost"], "fitted coefficients": s["varied"],
                          "evaluations": s["nfev"], "time [s]": s["seconds"]})

@@ -297,7 +297,7 @@ def lateral_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=L
     s2 = 2.0 * z / (1.0 + z * z)  # sin(2 atan z)
     cam = 1.0 - p["a5"] * ag
     dBCD = d["BCD"]
-    a3, a4, a5 = p["a3"], p["a4"], p["a5"]
+    a3, a4 = p["a3"], p["a4"]
     cols = {
         "a0": d["C"],
         "a1": lambda: d["D"] * fzk**2,
