@@ -82,7 +82,7 @@ def run() -> dict:
 
 
 def _run() -> dict:
-    from tyrefit.datasets import data_path
+    from tyrefit.io.datasets import data_path
     from tyrefit.diagnose import prepare
     from tyrefit.io.readers import read_data
     from tyrefit.synthetic import passenger

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 from tyrefit.cli import run_checked
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 
 RATED_LOAD_N = 6031.0  # load index 91 (data/passenger/README.md)
 

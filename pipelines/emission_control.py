@@ -21,8 +21,8 @@ import sys
 from pathlib import Path
 
 from tyrefit.cli import run_checked
-from tyrefit.datasets import data_path
-from tyrefit.report import Report
+from tyrefit.io.datasets import data_path
+from tyrefit.io.report import Report
 
 
 def _run(argv: list[str]) -> None:

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from tyrefit.cli import run_checked
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.io.tir import read_tir
 
 

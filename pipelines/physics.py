@@ -3,7 +3,7 @@
 Runs ``tyrefit slip`` on the bundled slip-ratio sweeps (seed 002's slip
 characteristics), ``tyrefit sim adhesion`` on the wet and dry roads with
 cambered wheels (seed 001's EKF with the improved and the original brush
-model) and :func:`tyrefit.brush_compare.compare_brush_pac89` (the camber brush
+model) and :func:`tyrefit.compare.brush.compare_brush_pac89` (the camber brush
 model against PAC89: where the Magic Formula cannot follow), then links the
 reports.  No logic of its own.
 """
@@ -14,11 +14,11 @@ import json
 import sys
 from pathlib import Path
 
-from tyrefit.brush_compare import compare_brush_pac89
+from tyrefit.compare.brush import compare_brush_pac89
 from tyrefit.cli import run_checked
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.io.outputs import write_text
-from tyrefit.report import Report
+from tyrefit.io.report import Report
 
 #: (road mu, camber on the left wheels [deg]) shown in the demo
 ADHESION_CASES = [(0.8, 0.0), (0.3, 6.0)]

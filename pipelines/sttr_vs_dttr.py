@@ -23,7 +23,7 @@ import json
 import sys
 from pathlib import Path
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.nomenclature import G0
 from tyrefit.io.outputs import staged_dir, write_text
 from tyrefit.io.readers import read_data

@@ -1,4 +1,4 @@
-"""Batch fitting (tyrefit.batch, ``tyrefit batch fit``) on synthetic databases with known coefficients."""
+"""Batch fitting (tyrefit.fitting.batch, ``tyrefit batch fit``) on synthetic databases with known coefficients."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from tyrefit.batch import BatchResult, batch_fit, find_data_files, fit_file
+from tyrefit.fitting.batch import BatchResult, batch_fit, find_data_files, fit_file
 from tyrefit.cli import main
 from tyrefit.errors import DataError
 from tyrefit.io.tir import read_tir
@@ -114,7 +114,7 @@ def test_worker_processes_start_safely_when_the_caller_has_threads(tmp_path, db)
     """With a second thread alive the pool must not fork this process (forkserver instead)."""
     import threading
 
-    from tyrefit import batch
+    from tyrefit.fitting import batch
 
     stop = threading.Event()
     t = threading.Thread(target=stop.wait, daemon=True)

@@ -1,10 +1,10 @@
-"""Camber brush model vs PAC89 (tyrefit.brush_compare): PAC89-like limits, Eq. 20, the findings, figures."""
+"""Camber brush model vs PAC89 (tyrefit.compare.brush): PAC89-like limits, Eq. 20, the findings, figures."""
 
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from tyrefit.brush_compare import LATERAL_VARY, compare_brush_pac89
+from tyrefit.compare.brush import LATERAL_VARY, compare_brush_pac89
 from tyrefit.models import brush as bm
 from tyrefit.models import pac89
 
@@ -110,7 +110,7 @@ def test_where_pac89_cannot_follow(cmp):
 def test_figures_and_report_section(cmp, tmp_path):
     import matplotlib.pyplot as plt
 
-    from tyrefit.report import Report
+    from tyrefit.io.report import Report
 
     assert cmp.plot_sweeps(6000.0).get_xlabel() == "slip angle [deg]"
     assert cmp.plot_rmse().get_ylabel() == "RMSE [% of peak]"

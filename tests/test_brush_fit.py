@@ -1,4 +1,4 @@
-"""Fitting the camber brush models (tyrefit.models.brush_fit): recovery of known parameters."""
+"""Fitting the camber brush models (tyrefit.fitting.brush): recovery of known parameters."""
 
 import numpy as np
 import pandas as pd
@@ -7,7 +7,7 @@ from numpy.testing import assert_allclose
 
 from tyrefit.errors import ColumnError, DataError
 from tyrefit.models import brush as bm
-from tyrefit.models import brush_fit as bf
+from tyrefit.fitting import brush as bf
 from tyrefit.synthetic import camber_brush as gen
 
 P = bm.DEFAULT_PARAMS
@@ -99,7 +99,7 @@ def test_original_model_fit_and_calibration():
 
 def test_shipped_brush_data_read_and_fit():
     """End to end on data/brush: read with read_data, fit the lateral stiffness and friction."""
-    from tyrefit.datasets import data_path
+    from tyrefit.io.datasets import data_path
     from tyrefit.io.readers import read_data
 
     ds = read_data(data_path("brush", "lateral.csv"))

@@ -1,4 +1,4 @@
-"""tyrefit.compare and ``tyrefit compare``: per-load metrics, JSON contract, against data."""
+"""tyrefit.compare.tyres and ``tyrefit compare``: per-load metrics, JSON contract, against data."""
 
 import json
 import math
@@ -9,11 +9,11 @@ import pandas as pd
 import pytest
 
 from tyrefit.cli import main
-from tyrefit.compare import binned_curve, compare_tyres, data_metrics, model_metrics
+from tyrefit.compare.tyres import binned_curve, compare_tyres, data_metrics, model_metrics
 from tyrefit.errors import DataError
 from tyrefit.io.readers import Dataset
 from tyrefit.io.tir import read_tyre
-from tyrefit.tyre import Pac89Tyre
+from tyrefit.tyres.pac89 import Pac89Tyre
 
 REF = Path(__file__).parent / "data" / "ref_adams_pac89_example.tir"
 TRUCK = {"a0": 1.4, "a1": -0.8, "a2": 800.0, "a3": 8000.0, "a4": 55.0, "a6": -0.01, "a7": -0.3}

@@ -43,7 +43,7 @@ def test_demo_refuses_to_replace_a_report_without_force(tmp_path, capsys):
 
 
 def test_every_demo_step_has_a_pipeline():
-    from tyrefit.datasets import data_dir
+    from tyrefit.io.datasets import data_dir
 
     for _, script, _ in STEPS:
         assert (data_dir().parent / "pipelines" / script).is_file(), script

@@ -445,7 +445,7 @@ def test_cli_diagnose_rejects_static_data(tmp_path, capsys):
 
 # --- bundled passenger tyre ------------------------------------------------------------------------
 def test_bundled_passenger_tyre_recovers_its_hidden_truth():
-    from tyrefit.datasets import data_path
+    from tyrefit.io.datasets import data_path
     from tyrefit.io.readers import read_data
     from tyrefit.synthetic import passenger
 

@@ -136,7 +136,7 @@ def test_static_needs_patch(tmp_path, capsys):
 
 
 def test_static_with_patch_on_bundled_truck(tmp_path):
-    from tyrefit.datasets import data_path
+    from tyrefit.io.datasets import data_path
 
     try:
         static, patch = data_path("truck", "tyre_a_static.csv"), data_path("truck", "tyre_a_patch.csv")

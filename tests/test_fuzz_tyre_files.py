@@ -24,7 +24,7 @@ from tyrefit.errors import FormatError, TyrefitError
 from tyrefit.io.chrono_json import chrono_dict, read_chrono_json, write_chrono_json
 from tyrefit.io.tir import format_tir, read_property_file, read_tir, read_tyre, write_tir
 from tyrefit.models import pac89
-from tyrefit.tyre import Pac89Tyre
+from tyrefit.tyres.pac89 import Pac89Tyre
 
 # --------------------------------------------------------------------------- valid seeds
 

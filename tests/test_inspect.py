@@ -7,7 +7,7 @@ import pytest
 
 from tyrefit.cli import main
 from tyrefit.commands.inspect import inspect_file
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.synthetic.ttc import PROGRAMME
 
 DATA = Path(__file__).parent / "data"

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.errors import ColumnError, DataError
 from tyrefit.io.readers import (SAE_FLIPPED, Dataset, check_fittable, condition_levels, detect_kind, lateral_slope,
                                 read_data, require_patch)

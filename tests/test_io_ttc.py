@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.errors import DataError, FormatError, ValueRangeError
 from tyrefit.io.readers import condition_levels, lateral_slope, read_data
 from tyrefit.io.segment import segment_record

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.errors import FormatError, UnitError, ValueRangeError
 from tyrefit.io.readers import condition_levels, lateral_slope, read_data
 from tyrefit.models import pac89

@@ -3,7 +3,7 @@
 import matplotlib.pyplot as plt
 import pandas as pd
 
-from tyrefit.report import Report
+from tyrefit.io.report import Report
 
 
 def test_report_embeds_figures_and_escapes(tmp_path):

@@ -5,7 +5,7 @@ import json
 import pytest
 
 from tyrefit.cli import main
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.rig import RigCalibration
 
 

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.errors import FitError, FormatError
 from tyrefit.io.readers import read_data
 from tyrefit.rig.conversion import (UNCALIBRATED, RigCalibration, RigRangeWarning, calibrate, eq1_slip_angle,

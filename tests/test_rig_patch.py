@@ -74,7 +74,7 @@ def test_breakpoint_with_the_seed_loads_is_unbiased():
 
 
 def test_bundled_patch_breakpoint():
-    from tyrefit.datasets import data_path
+    from tyrefit.io.datasets import data_path
     from tyrefit.io.readers import read_data
 
     for t, name in ((T.TYRE_A, "tyre_a_patch.csv"), (T.TYRE_B, "tyre_b_patch.csv")):

@@ -6,14 +6,14 @@ import warnings
 import numpy as np
 import pytest
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.errors import DataError
 from tyrefit.io.readers import Dataset, read_data
 from tyrefit.nomenclature import G0
-from tyrefit.report import Report
+from tyrefit.io.report import Report
 from tyrefit.rig import RigCalibration, RigRangeWarning, prepare_static_fit
 from tyrefit.synthetic import truck as T
-from tyrefit.tyre import Pac89Tyre
+from tyrefit.tyres.pac89 import Pac89Tyre
 
 
 def _read(name):

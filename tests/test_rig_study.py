@@ -2,7 +2,7 @@
 
 import pytest
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.io.readers import read_data
 from tyrefit.nomenclature import G0
 

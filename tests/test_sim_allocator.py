@@ -183,7 +183,7 @@ def test_slip_limits(axles):
 
 def test_characteristic_slip_from_the_curve_uses_seed_002(axles):
     from tyrefit.models import slip as sl
-    from tyrefit.models.slip_fit import fit_friction_slip
+    from tyrefit.fitting.slip import fit_friction_slip
 
     ax = axles["soft_f"]
     lim = CurveCharacteristicSlipLimit()

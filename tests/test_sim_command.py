@@ -6,8 +6,8 @@ import json
 import pytest
 
 from tyrefit.cli import main
-from tyrefit.datasets import data_dir, data_path
-from tyrefit.tyre import Pac89Tyre
+from tyrefit.io.datasets import data_dir, data_path
+from tyrefit.tyres.pac89 import Pac89Tyre
 
 KEYS = {"condition", "initial_speed_kmh", "vehicle", "stopping_distance_m", "max_deceleration_mps2"}
 

@@ -82,7 +82,7 @@ def test_synthetic_tyres_have_the_papers_grip_ratio():
 
 
 def test_bundled_tyre_files_read_with_iso_w_signs():
-    from tyrefit.datasets import data_path
+    from tyrefit.io.datasets import data_path
 
     ds = read_data(data_path("sim", "soft_tyre.csv"))
     lat = ds.df[ds.df["run"] <= 4]

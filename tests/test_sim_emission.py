@@ -5,7 +5,7 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.optimize import nnls
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.errors import DataError
 from tyrefit.io.readers import read_data
 from tyrefit.sim.emission import DEFAULT_EMISSION, QuadraticEmission, fit_emission

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 from tyrefit.errors import DataError
 from tyrefit.nomenclature import G0
 from tyrefit.sim.traction import (HPWIZARD, K_TYPICAL, emission_ratio, fit_treadwear_traction,

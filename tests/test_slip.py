@@ -1,4 +1,4 @@
-"""Slippage laws of seed 002 (tyrefit.models.slip) and their fits (tyrefit.models.slip_fit)."""
+"""Slippage laws of seed 002 (tyrefit.models.slip) and their fits (tyrefit.fitting.slip)."""
 
 import numpy as np
 import pandas as pd
@@ -7,7 +7,7 @@ from numpy.testing import assert_allclose
 
 from tyrefit.errors import ColumnError, DataError
 from tyrefit.models import slip as sl
-from tyrefit.models.slip_fit import analyse_slip, fit_friction_slip, fit_rolling_radius, load_groups
+from tyrefit.fitting.slip import analyse_slip, fit_friction_slip, fit_rolling_radius, load_groups
 from tyrefit.synthetic import slip as gen
 
 

@@ -40,7 +40,7 @@ def test_csv_files_say_synthetic_and_read_back(generated):
 
 
 def test_bundled_data_match_the_generator(generated):
-    from tyrefit.datasets import data_path
+    from tyrefit.io.datasets import data_path
 
     out, files = generated
     for f in files:

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from tyrefit.errors import FormatError, ModelError, OutputExistsError
 from tyrefit.io.tir import format_tir, read_property_file, read_tir, read_tyre, write_tir
 from tyrefit.models import pac89
-from tyrefit.tyre import Pac89Tyre
+from tyrefit.tyres.pac89 import Pac89Tyre
 
 DATA = Path(__file__).parent / "data"
 EXAMPLE = DATA / "ref_adams_pac89_example.tir"

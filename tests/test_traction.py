@@ -5,7 +5,7 @@ import json
 from numpy.testing import assert_allclose
 
 from tyrefit.cli import main
-from tyrefit.datasets import data_path
+from tyrefit.io.datasets import data_path
 
 TABLE = str(data_path("sim", "braking_utqg.csv"))
 

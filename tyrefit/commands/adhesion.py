@@ -66,7 +66,7 @@ def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
     """HTML report: convergence plots of both models, the truth's traces, the camber sweep."""
     import matplotlib.pyplot as plt
 
-    from ..report import Report
+    from ..io.report import Report
     from ..sim import vehicle7dof as v7
 
     r = Report(f"Road adhesion estimation: mu = {road_mu:g}, camber {camber_deg:g} deg",

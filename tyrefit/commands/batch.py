@@ -1,6 +1,6 @@
 """``tyrefit batch fit DIR_OR_GLOB --out DIR [--scheduler ADDRESS] [--workers N]``.
 
-Fits every data file with :func:`tyrefit.batch.batch_fit` and prints one
+Fits every data file with :func:`tyrefit.fitting.batch.batch_fit` and prints one
 summary line on stdout.  A bad file does not stop the batch: it is listed on
 stderr (one line each) and in ``DIR/summary.csv`` / ``DIR/index.html``.
 
@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..batch import batch_fit
+from ..fitting.batch import batch_fit
 
 #: failures listed on stderr before "... and N more"
 _MAX_LISTED = 20

@@ -3,7 +3,7 @@
 Compares two tyre files (PAC89 ``.tir`` or Chrono PAC89 JSON) load by load --
 cornering stiffness, peak friction coefficient, slip angle at the peak, mean
 |dmu|/mu_peak over 0-12 deg -- and, with ``--data``, each against measured
-slip-angle sweeps (:func:`tyrefit.compare.compare_tyres`).  JSON keys as in
+slip-angle sweeps (:func:`tyrefit.compare.tyres.compare_tyres`).  JSON keys as in
 ``shared/DESIGN.md``.
 """
 
@@ -41,7 +41,7 @@ def _clean(o):
 
 def run(args) -> int:
     """Entry point of ``tyrefit compare``."""
-    from ..compare import compare_tyres
+    from ..compare.tyres import compare_tyres
     from ..io.tir import read_tyre
 
     check_outputs(args)
@@ -62,7 +62,7 @@ def run(args) -> int:
         write_text(args.json, json.dumps(doc, indent=2, default=_json_default, allow_nan=False) + "\n",
                    force=args.force)
     if args.report:
-        from ..report import Report
+        from ..io.report import Report
 
         r = Report(f"tyrefit compare: {na} vs {nb}",
                    f"tyrefit compare {args.tyre_a} {args.tyre_b}" + (f" --data {args.data}" if args.data else ""))

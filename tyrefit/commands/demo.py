@@ -17,10 +17,10 @@ import time
 import traceback
 from pathlib import Path
 
-from ..datasets import data_dir
+from ..io.datasets import data_dir
 from ..errors import DataError
 from ..io.outputs import staged_dir
-from ..report import Report
+from ..io.report import Report
 
 #: (folder, pipeline script, what it shows)
 STEPS = [

@@ -128,7 +128,7 @@ def fit_file(args):
 
 
 def _report(result, extras, args, out: Path) -> None:
-    from ..report import Report
+    from ..io.report import Report
 
     rdir = Path(args.report)
     r = Report(f"PAC89 fit — {Path(args.data).name}",

@@ -19,12 +19,12 @@ __all__ = ["run", "calibration_report"]
 
 
 def calibration_report(cal, static_ds, dynamic_ds, patch_ds, title: str = "Eq. 1 rig calibration"):
-    """A :class:`tyrefit.report.Report` of a calibration: f, the static data mapped onto the dynamic curves."""
+    """A :class:`tyrefit.io.report.Report` of a calibration: f, the static data mapped onto the dynamic curves."""
     import matplotlib.pyplot as plt
     import numpy as np
 
     from ..nomenclature import G0
-    from ..report import Report
+    from ..io.report import Report
     from ..rig import prepare_static_fit
 
     r = Report(title, cal.summary())

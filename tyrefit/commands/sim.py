@@ -89,8 +89,8 @@ def _summary(res) -> str:
 
 
 def sim_report(res):
-    """HTML :class:`~tyrefit.report.Report` of a scenario result (figures embedded)."""
-    from ..report import Report
+    """HTML :class:`~tyrefit.io.report.Report` of a scenario result (figures embedded)."""
+    from ..io.report import Report
     from ..sim.plots import braking_figure, scenario_figure
 
     st = res.setup

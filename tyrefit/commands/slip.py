@@ -23,7 +23,7 @@ import numpy as np
 from ..errors import DataError
 from ..io.outputs import check_outputs, write_text
 from ..models import slip as sl
-from ..models.slip_fit import SlipAnalysis, analyse_slip
+from ..fitting.slip import SlipAnalysis, analyse_slip
 
 __all__ = ["run", "slip_report"]
 
@@ -56,10 +56,10 @@ def _summary(a: SlipAnalysis) -> str:
 
 
 def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)"):
-    """An HTML :class:`tyrefit.report.Report` of a slip analysis."""
+    """An HTML :class:`tyrefit.io.report.Report` of a slip analysis."""
     import matplotlib.pyplot as plt
 
-    from ..report import Report
+    from ..io.report import Report
 
     r = Report(title, subtitle=f"data: {a.source}" if a.source else None)
     r.p("Longitudinal friction against slip, fitted with mu = mu_p (1 - exp(-k s)) (Ghasemi et al., Eq. 8). "

@@ -62,7 +62,7 @@ def traction_report(table, d: dict):
     """HTML report: the tyres, the fit against HPwizard's law, k against the friction ratio."""
     import matplotlib.pyplot as plt
 
-    from ..report import Report
+    from ..io.report import Report
 
     fit = table.fit
     r = Report("Treadwear against traction (seed 000, Eq. 41-43)",

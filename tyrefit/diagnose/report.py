@@ -17,7 +17,7 @@ import pandas as pd
 
 from ..effects import EFFECTS, get_effect
 from ..io.outputs import staged_dir, write_text
-from ..report import Report, esc
+from ..io.report import Report, esc
 from . import views
 
 __all__ = ["write_report", "build_report"]

@@ -346,7 +346,7 @@ _CARD_CAMBER_BRUSH = PhysicsCard(
     sources=("Zhang et al. (seed 001) camber brush model, Eqs. 17-22 (Eq. 19 parabolic camber deflection, "
              "Eq. 20 K_ygamma = 2 a^3 k/(3 Re), Eq. 21-22 slip point and camber term)",
              "tyrefit.models.brush (camber_brush_forces, camber_stiffness) computes the same terms strip by "
-             "strip; tyrefit.brush_compare fits PAC89 to it"))
+             "strip; tyrefit.compare.brush fits PAC89 to it"))
 
 _NOT_PAC89_CAMBER_BRUSH = (
     "not representable in PAC89 exactly: PAC89 writes camber thrust as a vertical shift a11 Fz gamma, linear "

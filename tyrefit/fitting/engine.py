@@ -83,7 +83,7 @@ from ._blas import single_threaded_blas
 
 __all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
 
-_DEG = 180.0 / math.pi
+_RAD_TO_DEG = 180.0 / math.pi
 MU_MIN, MU_MAX = 0.02, 6.0
 
 
@@ -115,11 +115,11 @@ class PartSpec:
 
 
 PARTS: dict[str, PartSpec] = {
-    "lateral": PartSpec("lateral", pac89.LATERAL, "fy", "slip_angle", _DEG,
+    "lateral": PartSpec("lateral", pac89.LATERAL, "fy", "slip_angle", _RAD_TO_DEG,
                         ("a0", "a1", "a2", "a3", "a4"), ("a6", "a7")),
     "longitudinal": PartSpec("longitudinal", pac89.LONGITUDINAL, "fx", "slip_ratio", 100.0,
                              ("b0", "b1", "b2", "b3", "b4", "b5"), ("b6", "b7", "b8")),
-    "aligning": PartSpec("aligning", pac89.ALIGNING, "mz", "slip_angle", _DEG,
+    "aligning": PartSpec("aligning", pac89.ALIGNING, "mz", "slip_angle", _RAD_TO_DEG,
                          ("c0", "c1", "c2", "c3", "c4", "c5"), ("c7", "c8", "c9")),
 }
 
@@ -419,7 +419,7 @@ class _Problem:
     # -- parametrisation ---------------------------------------------------------
     def _direct_bounds(self, k: str) -> tuple[float, float]:
         b = self.base
-        gmax = float(np.max(np.abs(self.d.camber))) * _DEG if self.d.camber.size else 0.0
+        gmax = float(np.max(np.abs(self.d.camber))) * _RAD_TO_DEG if self.d.camber.size else 0.0
         hi = max(self.hi, 1e-3)
         table = {
             "a0": (0.3, 3.0), "b0": (0.3, 3.0), "c0": (0.3, 5.0),
@@ -812,7 +812,7 @@ def _check_orientation(fits: dict[str, PartFit]) -> None:
     if pf is None:
         return
     d = pf.data
-    x = d.slip * _DEG
+    x = d.slip * _RAD_TO_DEG
     near = np.abs(x) <= 2.0
     if near.sum() < 3 or np.ptp(x[near]) <= 0:
         return

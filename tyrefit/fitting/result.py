@@ -28,14 +28,14 @@ import numpy as np
 import pandas as pd
 
 from .. import __version__
-from ..tyre import Pac89Tyre
+from ..tyres.pac89 import Pac89Tyre
 
 __all__ = ["FitResult"]
 
-_DEG = 180.0 / math.pi
-_LABEL = {"lateral": ("fy", "Fy", "N", "slip_angle", "slip angle [deg]", _DEG),
+_RAD_TO_DEG = 180.0 / math.pi
+_LABEL = {"lateral": ("fy", "Fy", "N", "slip_angle", "slip angle [deg]", _RAD_TO_DEG),
           "longitudinal": ("fx", "Fx", "N", "slip_ratio", "slip ratio [%]", 100.0),
-          "aligning": ("mz", "Mz", "N·m", "slip_angle", "slip angle [deg]", _DEG)}
+          "aligning": ("mz", "Mz", "N·m", "slip_angle", "slip angle [deg]", _RAD_TO_DEG)}
 _DESIGN = ("unloaded_radius", "width", "fnomin", "lateral_stiffness", "vertical_stiffness", "rolling_resistance",
            "name", "tyreside", "vertical_curve")
 
@@ -122,7 +122,7 @@ class FitResult:
                 peak = float(np.max(np.abs(g[col])))
                 r = g["_res"].to_numpy()
                 row = {"part": name, "run": int(run), "n": len(g), "fz": float(g["fz"].mean()),
-                       "camber": float(g["camber"].mean()) * _DEG}
+                       "camber": float(g["camber"].mean()) * _RAD_TO_DEG}
                 if "pressure" in g:
                     row["pressure"] = float(g["pressure"].mean())
                 rmse, bias = float(np.sqrt(np.mean(r**2))), float(np.mean(r))
@@ -261,7 +261,7 @@ class FitResult:
 
     def to_html(self) -> str:
         """HTML fragment: statistics, coefficient table, not-identifiable list, notes."""
-        from ..report import Report
+        from ..io.report import Report
 
         r = Report("PAC89 fit")
         self._report_blocks(r, figures=False)
@@ -305,7 +305,7 @@ class FitResult:
     def report(self, directory: str | os.PathLike, force: bool = False, title: str | None = None) -> Path:
         """Write ``directory/index.html`` (figures embedded) and ``sweeps.csv``; returns the HTML path."""
         from ..io.outputs import check_output, write_text
-        from ..report import Report
+        from ..io.report import Report
 
         d = Path(directory)
         check_output(d / "index.html", force)

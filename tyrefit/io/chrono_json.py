@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..errors import FormatError
 from ..models import pac89
-from ..tyre import Pac89Tyre
+from ..tyres.pac89 import Pac89Tyre
 from .outputs import write_text
 
 __all__ = ["read_chrono_json", "write_chrono_json", "chrono_dict"]

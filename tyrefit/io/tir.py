@@ -6,7 +6,7 @@ lines, ``$`` and ``!`` comments, quoted strings, curve tables (a ``{a b}``
 line followed by rows of numbers), LF or CRLF, any case.  Nothing is dropped:
 vendor sections are kept as they are.
 
-:func:`read_tir` turns a PAC89 file into a :class:`~tyrefit.tyre.Pac89Tyre`
+:func:`read_tir` turns a PAC89 file into a :class:`~tyrefit.tyres.pac89.Pac89Tyre`
 (SI design data; coefficients as written) and :func:`write_tir` writes the
 Adams-style PAC89 layout of ``shared/reference/adams_pac89_example.tir``.
 Floats are written with ``repr`` so that write -> read is exact.
@@ -22,7 +22,7 @@ from pathlib import Path
 
 from ..errors import FormatError
 from ..models import pac89
-from ..tyre import Pac89Tyre
+from ..tyres.pac89 import Pac89Tyre
 from .outputs import write_text
 
 __all__ = ["PropertyFile", "read_property_file", "read_tir", "read_tyre", "write_tir", "format_tir"]

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .table import RawTable, map_headers, parse_cells
 from ..errors import DataError, FormatError
 
 __all__ = ["parse_ttc"]
@@ -33,7 +34,6 @@ __all__ = ["parse_ttc"]
 
 def parse_ttc(p: Path, text: str):
     """Parse a TTC ``.dat`` into a :class:`~tyrefit.io.readers.RawTable` (to be segmented)."""
-    from .readers import RawTable, map_headers, parse_cells
 
     lines = text.splitlines()
     if len(lines) < 3:

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import nomenclature as nm
+from .table import RawTable, map_headers, parse_cells
 from ..errors import ColumnError, DataError, FormatError, UnitError
 
 __all__ = ["parse_tydex", "TYDEX_BLOCKS"]
@@ -116,7 +117,6 @@ def _data_rows(p: Path, rows: list[tuple[int, str]], n: int, names: list[str]) -
 
 def parse_tydex(p: Path, text: str):
     """Parse a TYDEX file into a :class:`~tyrefit.io.readers.RawTable`."""
-    from .readers import RawTable, map_headers, parse_cells
 
     blocks = _blocks(p, text)
     if "MEASURCHANNELS" not in blocks:

@@ -220,7 +220,7 @@ class StaticFitInput:
         return ax
 
     def report_section(self, report, model=None) -> None:
-        """Append the static-rig pipeline to a :class:`tyrefit.report.Report`.
+        """Append the static-rig pipeline to a :class:`tyrefit.io.report.Report`.
 
         Contact patch (seed 003 Fig. 2), vertical stiffness (Fig. 3), the static
         pushes (Fig. 5), Eq. 1 and the converted data, the part used and every

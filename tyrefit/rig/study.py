@@ -12,7 +12,7 @@ promise the way it would be used:
    :func:`tyrefit.fitting.fit_pac89`;
 3. fit the target's dynamic data too (the DTTR model, what field tests give);
 4. score every model against the target's dynamic data with
-   :func:`tyrefit.compare.compare_tyres`: mean |dmu| / mu_peak over 0-12 deg
+   :func:`tyrefit.compare.tyres.compare_tyres`: mean |dmu| / mu_peak over 0-12 deg
    per load.
 """
 
@@ -101,10 +101,10 @@ class StudyResult:
 
     # -- report ------------------------------------------------------------------------------
     def report(self, title: str = "STTR vs DTTR: a tyre from static tests, calibrated on another"):
-        """The study as a :class:`tyrefit.report.Report`."""
+        """The study as a :class:`tyrefit.io.report.Report`."""
         import matplotlib.pyplot as plt
 
-        from ..report import Report
+        from ..io.report import Report
 
         ref, tgt = self.names.get("reference", "A"), self.names.get("target", "B")
         c = self.checks()
@@ -204,7 +204,7 @@ def sttr_vs_dttr(reference_static, reference_dynamic, reference_patch, target_st
     -------
     StudyResult
     """
-    from ..compare import compare_tyres
+    from ..compare.tyres import compare_tyres
     from ..fitting import fit_pac89
 
     names = {"reference": "A", "target": "B", **(names or {})}

@@ -22,7 +22,7 @@ experiment:
    once with the improved model (2N = 12 strips: coarser than the truth) and
    once with the original camber brush model, whose parameters are
    calibrated on zero-camber forces of the same tyre
-   (:func:`tyrefit.models.brush_fit.calibrate_original`): the two agree
+   (:func:`tyrefit.fitting.brush.calibrate_original`): the two agree
    without camber and differ as camber grows (the paper's Fig. 16-17).
 
 The EKF knows the vehicle states (speeds, yaw rate, wheel spins, steer), as
@@ -153,7 +153,7 @@ def improved_tyre(params: bm.BrushParams = bm.DEFAULT_PARAMS, n: int = 8) -> Tyr
 
 @lru_cache(maxsize=8)
 def _calibrated(params: bm.BrushParams, n: int) -> bm.BrushParams:
-    from ..models.brush_fit import calibrate_original
+    from ..fitting.brush import calibrate_original
 
     return calibrate_original(params, n=n).params
 

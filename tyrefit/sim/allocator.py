@@ -230,7 +230,7 @@ class CurveCharacteristicSlipLimit:
 
     Fits mu = mu_p (1 - exp(-k s)) (Ghasemi et al., Eq. 8) to the driving
     branch of the tyre's Fx/Fz curve up to its peak with
-    :func:`tyrefit.models.slip_fit.fit_friction_slip`, takes s_c (Eq. 16, with
+    :func:`tyrefit.fitting.slip.fit_friction_slip`, takes s_c (Eq. 16, with
     curvature ``nu_c``), converts seed 002's slippage s = 1 - v/(r w) to the
     slip ratio s / (1 - s) and uses it, capped at the slip of peak force, on
     both sides (:class:`CharacteristicSlipLimit`).
@@ -239,7 +239,7 @@ class CurveCharacteristicSlipLimit:
     nu_c: float = -2.0
 
     def characteristic_slip(self, axle: AxleTyre) -> float:
-        from ..models.slip_fit import fit_friction_slip
+        from ..fitting.slip import fit_friction_slip
 
         lam_peak = axle.peak_drive[0]
         lam = np.linspace(0.0, lam_peak, 60)[1:]

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import DataError
-from ..tyre import Pac89Tyre
+from ..tyres.pac89 import Pac89Tyre
 from .allocator import (AxleLimits, EqualSplit, ForceTrackingController, PeakShareSlipLimit, WearAwareAllocator,
                         resolve_slip_limit)
 from .driver import (BrakeDriver, ComfortLimits, DriverLine, PathDriver, ReplayDriver, SteeringLimits,
@@ -190,7 +190,7 @@ class SimSetup:
 
 def _bundled_traction_b():
     try:
-        from ..datasets import data_path
+        from ..io.datasets import data_path
         from .traction import traction_from_data
 
         fit = traction_from_data(data_path("sim", "braking_utqg.csv")).fit

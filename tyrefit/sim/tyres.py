@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError, ModelError
-from ..tyre import Pac89Tyre
+from ..tyres.pac89 import Pac89Tyre
 
 try:  # the compiled routine behind np.interp, without its Python-level checks (hot loop)
     from numpy._core.multiarray import interp as _interp
@@ -197,7 +197,7 @@ def default_tyres() -> tuple[Pac89Tyre, Pac89Tyre]:
     They are PAC89 fits of the bundled synthetic data by the package's fitter
     (:func:`fit_vehicle_tyres`); each file's header records how it was made.
     """
-    from ..datasets import data_path
+    from ..io.datasets import data_path
 
     return load_tyre(data_path("sim", DEFAULT_FRONT)), load_tyre(data_path("sim", DEFAULT_REAR))
 

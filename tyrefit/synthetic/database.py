@@ -196,7 +196,7 @@ def curve_error(tyre, entry: dict) -> float:
     """Max |Fy_fit - Fy_true| over the truth grid, relative to the peak |Fy_true| [-].
 
     ``tyre`` is anything with ``.fy(fz, slip_angle, camber)`` (a
-    :class:`~tyrefit.tyre.Pac89Tyre`) or a coefficient mapping.
+    :class:`~tyrefit.tyres.pac89.Pac89Tyre`) or a coefficient mapping.
     """
     fz, sa = truth_grid(entry)
     true = pac89.lateral_force(entry["coefficients"], fz, sa, 0.0)

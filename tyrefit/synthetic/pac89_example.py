@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 from ..models import pac89
-from ..tyre import Pac89Tyre
+from ..tyres.pac89 import Pac89Tyre
 
 __all__ = ["EXAMPLE", "example_tyre", "lateral_sweeps", "longitudinal_sweeps", "generate", "SEED"]
 

@@ -70,7 +70,7 @@ import numpy as np
 import pandas as pd
 
 from ..io.outputs import write_text
-from ..tyre import Pac89Tyre
+from ..tyres.pac89 import Pac89Tyre
 
 __all__ = [
     "SOFT",

@@ -156,7 +156,7 @@ class Report:
 
     def save(self, directory: str | os.PathLike, name: str = "index.html", force: bool = True) -> Path:
         """Write ``directory/name`` atomically and return its path."""
-        from .io.outputs import write_text
+        from .outputs import write_text
 
         d = Path(directory)
         d.mkdir(parents=True, exist_ok=True)

@@ -15,8 +15,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .errors import ModelError
-from .models import pac89
+from ..errors import ModelError
+from ..models import pac89
 
 __all__ = ["Pac89Tyre"]
 
@@ -137,17 +137,17 @@ class Pac89Tyre:
     @classmethod
     def from_file(cls, path) -> "Pac89Tyre":
         """Read a PAC89 ``.tir`` or a Chrono PAC89 JSON file."""
-        from .io.tir import read_tyre
+        from ..io.tir import read_tyre
 
         return read_tyre(path)
 
     def to_tir(self, path, force: bool = False):
-        from .io.tir import write_tir
+        from ..io.tir import write_tir
 
         return write_tir(self, path, force=force)
 
     def to_chrono_json(self, path, force: bool = False):
-        from .io.chrono_json import write_chrono_json
+        from ..io.chrono_json import write_chrono_json
 
         return write_chrono_json(self, path, force=force)
 

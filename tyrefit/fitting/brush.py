@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import ColumnError, DataError, FitError
-from . import brush as bm
+from ..models import brush as bm
 
 __all__ = [
     "BrushFitResult",

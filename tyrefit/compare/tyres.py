@@ -36,8 +36,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .errors import DataError
-from .nomenclature import G0
+from ..errors import DataError
+from ..nomenclature import G0
 
 __all__ = ["LoadComparison", "Comparison", "compare_tyres", "model_metrics", "data_metrics", "binned_curve",
            "SLIP_RANGE_DEG"]
@@ -268,7 +268,7 @@ class Comparison:
         return axes
 
     def report_section(self, report, title: str | None = None) -> None:
-        """Append the comparison (table, agreement, overlays) to a :class:`tyrefit.report.Report`."""
+        """Append the comparison (table, agreement, overlays) to a :class:`tyrefit.io.report.Report`."""
         import matplotlib.pyplot as plt
 
         a, b = self.names

@@ -64,8 +64,8 @@ from typing import Any
 
 import numpy as np
 
-from .errors import DataError, OutputExistsError, TyrefitError
-from .io.outputs import write_text
+from ..errors import DataError, OutputExistsError, TyrefitError
+from ..io.outputs import write_text
 
 __all__ = ["BatchResult", "batch_fit", "find_data_files", "fit_file", "fit_quality", "SUMMARY_COLUMNS",
            "DATA_SUFFIXES"]
@@ -76,7 +76,7 @@ DATA_SUFFIXES = (".csv", ".tdx", ".dat")
 SUMMARY_COLUMNS = ("name", "status", "points", "sweeps", "rmse", "r2", "peak_mu", "fz_min", "fz_max",
                    "time_s", "error", "source", "tir")
 #: modules every worker needs; imported once per worker (fork-server preload / Client.run)
-_WARM_MODULES = ("tyrefit.batch", "tyrefit.io.readers", "tyrefit.fitting", "tyrefit.io.tir", "lmfit")
+_WARM_MODULES = ("tyrefit.fitting.batch", "tyrefit.io.readers", "tyrefit.fitting", "tyrefit.io.tir", "lmfit")
 _STATUS_DIR = "status"
 
 
@@ -161,7 +161,7 @@ def fit_quality(tyre, ds) -> dict[str, Any]:
     rmse is then dimensionless).  ``peak_mu`` is the model's peak friction
     coefficient D/Fz (Fy, or Fx for slip-ratio data) at the median load of the data.
     """
-    from .models import pac89
+    from ..models import pac89
 
     df = ds.df
     fz = df["fz"].to_numpy(float) if "fz" in df else None
@@ -213,8 +213,8 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
     rec: dict[str, Any] = {"name": name or Path(source).stem, "status": "failed", "source": str(source),
                            "tir": str(tir), "error": ""}
     try:
-        from .fitting import fit_pac89
-        from .io.readers import read_data
+        from . import fit_pac89
+        from ..io.readers import read_data
 
         ds = read_data(source, convention=convention)
         result = fit_pac89(ds, cost=cost)
@@ -584,7 +584,7 @@ def summary_csv_text(records: Sequence[dict]) -> str:
 
 def write_summary(res: BatchResult) -> tuple[Path, Path]:
     """Write ``summary.csv`` and ``index.html`` into the batch folder (replacing them)."""
-    from .report import Report
+    from ..io.report import Report
 
     csv_path = write_text(res.out_dir / "summary.csv", summary_csv_text(res.records), force=True)
     rep = Report("tyrefit batch fit", f"{len(res.records)} data files; {res.n_ok} fitted, {res.n_skipped} "

@@ -20,7 +20,7 @@ import pandas as pd
 from scipy.optimize import least_squares
 
 from ..errors import ColumnError, DataError, FitError
-from . import slip as sl
+from ..models import slip as sl
 
 __all__ = ["SlipFit", "RadiusFit", "SlipAnalysis", "fit_friction_slip", "fit_rolling_radius",
            "analyse_slip", "load_groups"]

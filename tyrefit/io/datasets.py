@@ -10,15 +10,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .errors import DataError
+from ..errors import DataError
 
 __all__ = ["data_dir", "data_path"]
 
 
 def data_dir() -> Path:
     """The folder of bundled data (``<repo>/data``)."""
-    here = Path(__file__).resolve().parent
-    for cand in (here.parent / "data", here / "data"):
+    pkg = Path(__file__).resolve().parents[1]  # tyrefit/
+    for cand in (pkg.parent / "data", pkg / "data"):
         if cand.is_dir():
             return cand
     raise DataError("bundled data folder not found; run tyrefit from a source checkout "

@@ -24,7 +24,7 @@ and measures where PAC89 cannot follow the brush physics:
 Everything here is computed from the models; the grid is synthetic.  Figures
 are functions of a :class:`BrushComparison` that take ``ax=None`` and return
 the Axes; :meth:`BrushComparison.report_section` writes the whole comparison
-into a :class:`tyrefit.report.Report`.
+into a :class:`tyrefit.io.report.Report`.
 
 References
 ----------
@@ -41,8 +41,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .models import brush as bm
-from .models import pac89
+from ..models import brush as bm
+from ..models import pac89
 
 __all__ = ["ModelComparison", "BrushComparison", "compare_brush_pac89", "LATERAL_VARY",
            "plot_sweeps", "plot_rmse", "plot_camber_thrust", "plot_cornering_stiffness", "plot_camber_stiffness"]
@@ -252,7 +252,7 @@ class BrushComparison:
 
     # -- report ---------------------------------------------------------------------------------
     def report_section(self, report, figures: bool = True):
-        """Add the comparison to a :class:`tyrefit.report.Report` (heading, findings, tables, figures).
+        """Add the comparison to a :class:`tyrefit.io.report.Report` (heading, findings, tables, figures).
 
         Returns the report.
         """
@@ -336,7 +336,7 @@ def _eq20(model: str, p: bm.BrushParams, fz, gamma, pressure, n):
 
 
 def _compare_model(model, p, loads, cambers, slips, pressure, mu, n, vary, single_fits) -> ModelComparison:
-    from .fitting import fit_pac89
+    from ..fitting import fit_pac89
 
     F, G, A = np.meshgrid(loads, cambers, slips, indexing="ij")
     run = np.broadcast_to(np.arange(F.shape[0] * F.shape[1]).reshape(F.shape[:2])[..., None], F.shape)
@@ -447,7 +447,7 @@ def compare_brush_pac89(params: bm.BrushParams = bm.DEFAULT_PARAMS,
         Also compare the original (symmetric, one-brush) model.
     original_params : BrushParams, optional
         Parameters of the original model (default ``params``: the same tyre
-        without the width effects; :func:`tyrefit.models.brush_fit.calibrate_original`
+        without the width effects; :func:`tyrefit.fitting.brush.calibrate_original`
         gives one calibrated on the improved model).
     single_fits : bool
         Also fit PAC89 to each load alone (separates the curve shape from the load laws).
