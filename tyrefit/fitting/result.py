@@ -10,8 +10,19 @@ Statistics (per part: lateral Fy, longitudinal Fx, aligning Mz)
 * per sweep: RMSE and bias (mean residual) in N and in % of the sweep's
   peak |F| measured;
 * R^2 = 1 - SS_res / SS_tot over all points of the part;
-* noise floor: see :func:`tyrefit.fitting.engine.noise_floor` (neighbouring
-  points along each sweep after removing a local linear trend);
+* noise floor (``noise_floor``): the *within-sweep noise floor* of
+  :func:`tyrefit.diagnose.stats.noise_floor` -- the pooled RMSE of a smooth
+  curve (cubic spline, knots every 1.5 deg of slip angle or 0.03 of slip
+  ratio, with a load-jitter term) through each sweep on its own.  ``fit``,
+  ``diagnose`` and ``compare`` report this one definition under this name.
+  The engine's neighbour-difference estimate
+  (:func:`tyrefit.fitting.engine.noise_floor`, which also counts the
+  hysteresis between up and down branches) is kept as ``point_scatter``;
+* fit-quality warnings (:attr:`FitResult.warnings`): a fitted coefficient at
+  one of its bounds (its standard error then means nothing), an RMSE above
+  1.5 x the noise floor (the model misses structure; 1.5 is the diagnose end
+  check's threshold), and condition levels the model cannot carry (PAC89 has
+  no pressure or speed input) merged into one tyre;
 * the fitted cost in mu (``objective``): sum over sweeps of the mean squared
   (l2) or mean absolute (l1, Komana et al. Eq. 5) mu residual, and the plain
   Eq. 5 sum sum|mu_model - mu_data| over all points.
@@ -36,6 +47,13 @@ _RAD_TO_DEG = 180.0 / math.pi
 _LABEL = {"lateral": ("fy", "Fy", "N", "slip_angle", "slip angle [deg]", _RAD_TO_DEG),
           "longitudinal": ("fx", "Fx", "N", "slip_ratio", "slip ratio [%]", 100.0),
           "aligning": ("mz", "Mz", "N·m", "slip_angle", "slip angle [deg]", _RAD_TO_DEG)}
+#: RMSE / noise floor above which a fit is flagged (the diagnose end check's threshold)
+FLOOR_RATIO_WARN = 1.5
+#: knot spacing of the within-sweep noise floor per part [deg of slip angle; slip ratio]
+_FLOOR_SPACING = {"lateral": 1.5, "aligning": 1.5, "longitudinal": 0.03 * _RAD_TO_DEG}
+_PART_COEFS = {"lateral": "a0-a13", "longitudinal": "b0-b10", "aligning": "c0-c17"}
+_PART_NEEDS = {"lateral": "slip-angle sweeps with fy", "longitudinal": "slip-ratio sweeps with fx",
+               "aligning": "slip-angle sweeps with mz"}
 _DESIGN = ("unloaded_radius", "width", "fnomin", "lateral_stiffness", "vertical_stiffness", "rolling_resistance",
            "name", "tyreside", "vertical_curve")
 
@@ -88,6 +106,9 @@ class FitResult:
     source: str = ""
     seconds: float = 0.0
     constraints: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    merged: dict = field(default_factory=dict)
+    model_label: str = "PAC89"
     _parts: dict = field(default_factory=dict, repr=False)
 
     # ------------------------------------------------------------------ construction
@@ -110,9 +131,11 @@ class FitResult:
             ss_res = float(np.sum(res**2))
             ss_tot = float(np.sum((d.y - d.y.mean()) ** 2))
             mu_res = (model - d.y) / d.fz
+            floor, floor_runs = within_sweep_noise(d, name)
             stats[name] = {
                 "n": int(d.n), "sweeps": int(len(set(d.run.tolist()))), "rmse": math.sqrt(ss_res / d.n),
-                "r2": 1.0 - ss_res / ss_tot if ss_tot > 0 else float("nan"), "noise_floor": pf.noise_floor,
+                "r2": 1.0 - ss_res / ss_tot if ss_tot > 0 else float("nan"), "noise_floor": floor,
+                "point_scatter": pf.noise_floor,
                 "objective": pf.objective, "eq5_cost": float(np.sum(np.abs(mu_res))),
                 "mean_abs_mu": float(np.mean(np.abs(mu_res))), "nfev": pf.nfev, "seconds": pf.seconds,
                 "fz_range": d.fz_range, "unit": unit, "varied": len(pf.varied), "facts": pf.facts,
@@ -123,13 +146,16 @@ class FitResult:
                 r = g["_res"].to_numpy()
                 row = {"part": name, "run": int(run), "n": len(g), "fz": float(g["fz"].mean()),
                        "camber": float(g["camber"].mean()) * _RAD_TO_DEG}
-                if "pressure" in g:
-                    row["pressure"] = float(g["pressure"].mean())
+                for c in ("pressure", "speed"):
+                    if c in g and g[c].notna().any():
+                        row[c] = float(g[c].mean())
+                if name == "longitudinal" and "slip_angle" in g:
+                    row["slip_angle"] = float(g["slip_angle"].mean()) * _RAD_TO_DEG
                 rmse, bias = float(np.sqrt(np.mean(r**2))), float(np.mean(r))
                 row.update({"peak": peak, "rmse": rmse, "bias": bias,
                             "rmse_pct": 100 * rmse / peak if peak > 0 else float("nan"),
                             "bias_pct": 100 * bias / peak if peak > 0 else float("nan"),
-                            "noise": float(pf.noise_per_run.get(run, float("nan")))})
+                            "noise": float(floor_runs.get(run, float("nan")))})
                 sweep_rows.append(row)
             for k, why in pf.not_identifiable.items():
                 not_id[k] = why
@@ -141,7 +167,11 @@ class FitResult:
                 v = pf.coefficients[k]
                 varied = k in pf.varied
                 se = pf.stderr.get(k, float("nan")) if varied else float("nan")
-                if varied:
+                lo, hi = pf.bounds.get(k, (-np.inf, np.inf))
+                at = _at_bound(v, lo, hi) if varied else None
+                if at:
+                    status = f"at its {at} bound {lo if at == 'lower' else hi:.4g}: not a free fit (stderr meaningless)"
+                elif varied:
                     status = "fitted"
                 elif k in (fixed or {}):
                     status = "fixed"
@@ -152,18 +182,20 @@ class FitResult:
                 rows.append({"name": k, "part": name, "value": v, "stderr": se,
                              "rel_stderr": 100 * se / abs(v) if varied and v != 0 else float("nan"),
                              "varied": varied, "initial": pf.initial.get(k, float("nan")), "status": status})
-                lo, hi = pf.bounds.get(k, (-np.inf, np.inf))
                 params.add(k, value=v, vary=varied, min=lo if lo < v else -np.inf, max=hi if hi > v else np.inf)
                 params[k].stderr = se if varied else None
             if isinstance(pf.correl, pd.DataFrame) and not pf.correl.empty:
                 cm, ci = pf.correl.to_numpy(), list(pf.correl.index)
                 for a, k in enumerate(ci):
                     params[k].correl = {j: float(cm[a, b]) for b, j in enumerate(ci) if j != k}
-        tyre = _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info)
-        return cls(tyre=tyre, params=params, coefficients=pd.DataFrame(rows), correlations=correl,
+        coef_df = pd.DataFrame(rows)
+        merged = _merged_levels(fits)
+        warns = _fit_warnings(coef_df, stats, merged)
+        tyre = _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info, warns)
+        return cls(tyre=tyre, params=params, coefficients=coef_df, correlations=correl,
                    sweeps=pd.DataFrame(sweep_rows), stats=stats, not_identifiable=not_id, estimates=est,
                    initial=init, notes=list(dict.fromkeys(notes)), cost=cost, source=info.get("source", ""),
-                   seconds=seconds, constraints=constraints, _parts=fits)
+                   seconds=seconds, constraints=constraints, warnings=warns, merged=merged, _parts=fits)
 
     # ------------------------------------------------------------------ convenience
     @property
@@ -214,9 +246,46 @@ class FitResult:
             out["fx_model"] = t.fx(fz, df["slip_ratio"].to_numpy(float))
         return out
 
+    # ------------------------------------------------------------------ what the model is
+    def model_lines(self) -> list[str]:
+        """What the fitted model holds, in words: parts fitted or not, camber terms, conditions merged."""
+        L = [f"model: {self.model_label} (Pacejka '89: Bakker, Nyborg, Pacejka 1989), evaluated with Fz, slip and "
+             "camber only"]
+        fitted = set(self.coefficients.loc[self.coefficients["varied"], "name"])
+        for part in ("lateral", "longitudinal", "aligning"):
+            sym = _LABEL[part][1]
+            if part not in self._parts:
+                L.append(f"{part} {sym} ({_PART_COEFS[part]}): NOT FITTED - the data hold no {_PART_NEEDS[part]}; "
+                         "the file carries placeholder values for it, not a model of this tyre")
+                continue
+            names = [k for k in self._parts[part].data.part.names if k in fitted]
+            cam = [k for k in _CAMBER_TERMS[part] if k in fitted]
+            txt = f"{part} {sym} ({_PART_COEFS[part]}): {len(names)} fitted ({', '.join(names)})"
+            if _CAMBER_TERMS[part]:
+                txt += ("; camber terms " + ", ".join(cam) + " fitted" if cam else
+                        "; camber terms not in the model (held at 0)")
+            L.append(txt)
+        for c, lv in self.merged.items():
+            L.append(_merged_text(c, lv))
+        return L
+
+    def figure_title(self, part: str) -> str:
+        """One-line title of a figure of ``part``: model, what it carries, how the lines are evaluated."""
+        sym = _LABEL[part][1]
+        fitted = set(self.coefficients.loc[self.coefficients["varied"], "name"])
+        cam = [k for k in _CAMBER_TERMS[part] if k in fitted]
+        carried = "camber terms " + ", ".join(cam) if cam else ("no camber terms" if _CAMBER_TERMS[part] else
+                                                                 "no camber input")
+        t = f"{self.model_label} {part} {sym} ({carried}); lines: model at each sweep's mean Fz" + \
+            (" and camber" if cam else "")
+        notin = [c for c in self.merged]
+        if notin:
+            t += "; " + " and ".join(notin) + " not in the model (one curve for every level)"
+        return t
+
     # ------------------------------------------------------------------ reports
     def summary(self) -> str:
-        """Plain-text report: statistics, coefficients, not-identifiable terms, notes."""
+        """Plain-text report: statistics, coefficients, not-identifiable terms, warnings, notes."""
         L = [f"PAC89 fit ({'Komana et al. Eq. 5, sum |mu error|' if self.cost == 'l1' else 'least squares on mu'})"
              f" of {self.source or 'data'} in {self.seconds:.2f} s"]
         for name, s in self.stats.items():
@@ -224,6 +293,7 @@ class FitResult:
             L.append(f"  {name:<12} {s['n']} points, {s['sweeps']} sweeps, Fz {lo:.0f}-{hi:.0f} N: "
                      f"RMSE {s['rmse']:.4g} {s['unit']}, R² {s['r2']:.5f}, noise floor {s['noise_floor']:.3g} "
                      f"{s['unit']}, {s['varied']} coefficients fitted")
+        L += ["  " + m for m in self.model_lines()[1:]]
         L.append("")
         L.append(f"  {'name':<5} {'value':>14} {'stderr':>11} {'rel %':>8}  status")
         for r in self.coefficients.itertuples():
@@ -236,6 +306,8 @@ class FitResult:
             f"{r.part[:3]} run {r.run} Fz {r.fz:.0f} N: {r.rmse_pct:.2f} %" for r in worst.itertuples()))
         if self.constraints:
             L.append("  constraints: " + "; ".join(self.constraints))
+        for w in self.warnings:
+            L.append(f"  WARNING: {w}")
         for n in self.notes:
             L.append(f"  note: {n}")
         return "\n".join(L)
@@ -243,13 +315,26 @@ class FitResult:
     def __str__(self) -> str:  # pragma: no cover - convenience
         return self.summary()
 
+    def to_dict(self) -> dict:
+        """Statistics, warnings and model description as plain JSON-able values."""
+        stats = {p: {k: (list(v) if isinstance(v, tuple) else v) for k, v in s.items() if k != "facts"}
+                 for p, s in self.stats.items()}
+        return {"source": self.source, "model": self.model_label, "parts": self.parts, "stats": stats,
+                "noise_floor_definition": NOISE_FLOOR_DEFINITION, "warnings": list(self.warnings),
+                "merged": {c: [float(x) for x in lv] for c, lv in self.merged.items()},
+                "model_description": self.model_lines(), "notes": list(self.notes),
+                "coefficients": {r.name: r.value for r in self.coefficients.itertuples()}}
+
     def _stats_rows(self) -> list[dict]:
         rows = []
         for name, s in self.stats.items():
             lo, hi = s["fz_range"]
+            ratio = s["rmse"] / s["noise_floor"] if s["noise_floor"] > 0 else float("nan")
             rows.append({"part": name, "points": s["n"], "sweeps": s["sweeps"], "Fz range [N]": f"{lo:.0f}–{hi:.0f}",
                          "RMSE": f"{s['rmse']:.4g} {s['unit']}", "R²": s["r2"],
-                         "noise floor": f"{s['noise_floor']:.3g} {s['unit']}",
+                         "noise floor (within-sweep)": f"{s['noise_floor']:.3g} {s['unit']}",
+                         "RMSE / floor": ratio,
+                         "point scatter": f"{s['point_scatter']:.3g} {s['unit']}",
                          "Eq. 5 cost Σ|Δμ|": s["eq5_cost"], "fitted coefficients": s["varied"],
                          "evaluations": s["nfev"], "time [s]": s["seconds"]})
         return rows
@@ -258,6 +343,28 @@ class FitResult:
         t = self.coefficients.copy()
         return t[["name", "value", "stderr", "rel_stderr", "initial", "status"]].rename(
             columns={"rel_stderr": "stderr [%]", "initial": "Eq. 2–4 start"})
+
+    def sweeps_table(self) -> pd.DataFrame:
+        """The per-sweep table in display units with unit headers (kN, deg, kPa, km/h)."""
+        t = self.sweeps.copy()
+        conv = {"fz": ("Fz [kN]", 1e-3), "camber": ("camber [deg]", 1.0), "slip_angle": ("slip angle [deg]", 1.0),
+                "pressure": ("pressure [kPa]", 1e-3), "speed": ("speed [km/h]", 3.6)}
+        cols = {}
+        for c, (label, f) in conv.items():
+            if c in t:
+                t[c] = t[c] * f
+                cols[c] = label
+        unit = {p: s["unit"] for p, s in self.stats.items()}
+        for c in ("peak", "rmse", "bias", "noise"):
+            if c in t:
+                t[c] = t[c].astype(float)
+        order = [c for c in ("part", "run", "n", "fz", "camber", "slip_angle", "pressure", "speed", "peak", "rmse",
+                             "rmse_pct", "bias", "bias_pct", "noise") if c in t]
+        t = t[order].rename(columns={**cols, "peak": "peak [N, N·m]", "rmse": "RMSE [N, N·m]",
+                                     "rmse_pct": "RMSE [% of peak]", "bias": "bias [N, N·m]",
+                                     "bias_pct": "bias [% of peak]", "noise": "noise floor [N, N·m]"})
+        del unit
+        return t
 
     def to_html(self) -> str:
         """HTML fragment: statistics, coefficient table, not-identifiable list, notes."""
@@ -274,12 +381,24 @@ class FitResult:
         r.p(f"Source: {self.source or 'data frame'}; cost: "
             f"{'sum of absolute μ errors (Komana et al. Eq. 5)' if self.cost == 'l1' else 'least squares on μ'}, "
             "each sweep weighted 1/n.", "note")
+        r.h2("What the tyre holds")
+        r.bullets(self.model_lines())
+        if self.warnings:
+            r.raw('<div class="warn"><b>Warnings</b><ul>' + "".join(f"<li>{_esc(w)}</li>" for w in self.warnings)
+                  + "</ul></div>")
         r.h2("Statistics")
         r.table(self._stats_rows())
+        r.p("Noise floor (within-sweep): " + NOISE_FLOOR_DEFINITION + ". Point scatter: the engine's "
+            "neighbour-difference estimate, which also counts the hysteresis between up and down branches.", "note")
         if figures:
             for part in self.parts:
-                r.figure(self._facet_figure(part), f"{part}: PAC89 fit (lines) over the data (dots), per load")
-                r.figure(self._residual_figure(part), f"{part}: residuals (model − data) vs slip, per load")
+                figs = self.facet_figures(part)
+                for k, fig in enumerate(figs):
+                    page = f" (page {k + 1} of {len(figs)})" if len(figs) > 1 else ""
+                    r.figure(fig, f"{part}: {self.figure_title(part)}; dots: data; one panel per condition "
+                                  f"level{page}")
+                r.figure(self._residual_figure(part), f"{part}: residuals (model − data) against slip, coloured "
+                                                      "by load, with the ± noise-floor band")
         r.h2("Coefficients")
         r.table(self._coef_rows(), digits=6)
         if self.not_identifiable:
@@ -295,9 +414,7 @@ class FitResult:
                 if strong:
                     r.p(f"{part}: strongly correlated pairs: " + ", ".join(f"{a}–{b} {v:+.3f}" for a, b, v in strong))
         r.h2("Sweeps")
-        cols = [c for c in ("part", "run", "n", "fz", "camber", "pressure", "peak", "rmse", "rmse_pct", "bias",
-                            "bias_pct", "noise") if c in self.sweeps]
-        r.table(self.sweeps[cols], digits=4)
+        r.table(self.sweeps_table(), digits=4)
         if self.notes:
             r.h3("Notes")
             r.bullets(self.notes)
@@ -312,69 +429,87 @@ class FitResult:
         r = Report(title or f"PAC89 fit — {Path(self.source).name if self.source else 'data'}")
         self._report_blocks(r, figures=True)
         d.mkdir(parents=True, exist_ok=True)
-        write_text(d / "sweeps.csv", self.sweeps.to_csv(index=False), force=True)
+        write_text(d / "sweeps.csv", self.sweeps_table().to_csv(index=False), force=True)
         return r.save(d, force=force)
 
     # ------------------------------------------------------------------ plots
+    def facets(self, part: str | None = None):
+        """Panels of ``part``: one per combination of condition levels in its data (see :mod:`tyrefit.io.facets`).
+
+        Returns ``(facets, info)`` of :func:`tyrefit.io.facets.facet_sweeps`.
+        """
+        from ..io.facets import facet_sweeps
+
+        part = part or self.parts[0]
+        ch = ("pressure", "speed", "slip_angle", "camber") if part == "longitudinal" else \
+            ("pressure", "speed", "camber")
+        return facet_sweeps(self._parts[part].data.df, ch)
+
+    def _draw_panel(self, ax, part: str, facet, fz_range=None, legend: bool = True):
+        from ..io.facets import format_load
+        import matplotlib as mpl
+
+        col, sym, unit, slip, xlabel, xs = _LABEL[part]
+        pf = self._parts[part]
+        df = pf.data.df
+        cmap = mpl.colormaps["viridis"]
+        lo, hi = fz_range or (min(facet.loads), max(facet.loads))
+        for run, fzm in zip(facet.runs, facet.loads):
+            g = df[df["run"] == run]
+            c = cmap(0.85 * (fzm - lo) / (hi - lo)) if hi > lo else cmap(0.3)
+            ax.plot(g[slip] * xs, g[col], ".", ms=3, color=c, alpha=0.5)
+            xg = np.linspace(g[slip].min(), g[slip].max(), 200)
+            cm = float(g["camber"].mean()) if "camber" in g else 0.0
+            yg = pf.data.part.model(pf.coefficients, np.full_like(xg, fzm), xg, cm)
+            ax.plot(xg * xs, yg, "-", color=c, lw=1.4, label=format_load(fzm), gid=f"model run {run}")
+        ax.set_title(facet.title, fontsize=9)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(f"{sym} [{unit}]")
+        ax.grid(alpha=0.3)
+        if legend and 0 < len(facet.runs) <= 12:
+            ax.legend(fontsize=7, title="Fz", title_fontsize=7)
+        return ax
+
     def plot(self, ax=None, part: str | None = None, camber: float | None = None, pressure: float | None = None):
-        """Fit (lines) over data (dots) for each load, on one Axes; returns the Axes.
+        """Fit (lines) over data (dots) for each load of one condition level; returns the Axes.
 
         Parameters
         ----------
         part : {'lateral', 'longitudinal', 'aligning'}, optional
             default: the first fitted part.
         camber : float, optional
-            show only sweeps at this camber [rad] (nearest level); default: the
-            level nearest to zero.
+            the panel at the camber level nearest this [rad]; default: nearest zero.
         pressure : float, optional
-            show only sweeps at this pressure [Pa] (nearest level).
+            the panel at the pressure level nearest this [Pa]; default: the first level.
         """
-        import matplotlib.pyplot as plt
-
         part = part or self.parts[0]
         if ax is None:
-            _, ax = plt.subplots(figsize=(6.4, 4.4))
-        col, sym, unit, slip, xlabel, xs = _LABEL[part]
-        pf = self._parts[part]
-        df = pf.data.df
-        sel = np.ones(len(df), bool)
-        cams = df["camber"].to_numpy()
-        target = 0.0 if camber is None else camber
-        levels = np.unique(np.round(cams, 4))
-        near = levels[np.argmin(np.abs(levels - target))] if len(levels) else 0.0
-        sel &= np.abs(np.round(cams, 4) - near) < math.radians(0.2)
-        if pressure is not None and "pressure" in df:
-            pl = np.unique(np.round(df["pressure"].to_numpy(), -2))
-            pn = pl[np.argmin(np.abs(pl - pressure))]
-            sel &= np.abs(df["pressure"].to_numpy() - pn) < 0.05e5
-        sub = df[sel]
-        cmap = plt.get_cmap("viridis")
-        runs = sub.groupby("run")["fz"].mean().sort_values()
-        fz_all = runs.to_numpy()
-        lo, hi = (fz_all.min(), fz_all.max()) if len(fz_all) else (0, 1)
-        for run, fzm in runs.items():
-            g = sub[sub["run"] == run]
-            c = cmap(0.85 * (fzm - lo) / (hi - lo)) if hi > lo else cmap(0.3)
-            ax.plot(g[slip] * xs, g[col], ".", ms=3, color=c, alpha=0.5)
-            xg = np.linspace(g[slip].min(), g[slip].max(), 200)
-            cm = float(g["camber"].mean())
-            yg = pf.data.part.model(pf.coefficients, np.full_like(xg, fzm), xg, cm)
-            ax.plot(xg * xs, yg, "-", color=c, lw=1.4, label=f"{fzm / 1e3:.2f} kN")
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel(f"{sym} [{unit}]")
-        ax.set_title(f"{part}: camber {math.degrees(near):.1f}°" if part != "longitudinal" else part)
-        ax.grid(alpha=0.3)
-        if len(runs) <= 12:
-            ax.legend(fontsize=7, title="Fz", title_fontsize=7)
+            from matplotlib.figure import Figure
+
+            ax = Figure(figsize=(6.4, 4.4)).subplots()
+        facets, info = self.facets(part)
+        want = {"camber": 0.0 if camber is None else camber}
+        if pressure is not None:
+            want["pressure"] = pressure
+
+        def dist(f):
+            return tuple(abs(f.conditions[c] - v) if c in f.conditions else 0.0 for c, v in want.items())
+
+        best = min(facets, key=lambda f: (dist(f)[::-1], f.row))
+        self._draw_panel(ax, part, best)
+        const = describe_constant_text(info)
+        if const:
+            ax.set_title(best.title + (", " if best.title != "all sweeps" else ": ") + const
+                         if best.title != "all sweeps" else const, fontsize=9)
         return ax
 
     def plot_residuals(self, ax=None, part: str | None = None):
         """Residuals (model - data) vs slip, coloured by load; returns the Axes."""
-        import matplotlib.pyplot as plt
-
         part = part or self.parts[0]
         if ax is None:
-            _, ax = plt.subplots(figsize=(6.4, 4.0))
+            from matplotlib.figure import Figure
+
+            ax = Figure(figsize=(6.4, 4.0)).subplots()
         col, sym, unit, slip, xlabel, xs = _LABEL[part]
         pf = self._parts[part]
         d = pf.data
@@ -388,37 +523,173 @@ class FitResult:
         ax.figure.colorbar(sc, ax=ax, label="Fz [kN]")
         ax.set_xlabel(xlabel)
         ax.set_ylabel(f"{sym} model − data [{unit}]")
+        ax.set_title(f"{self.model_label} {part} {sym}: residuals of all {self.stats[part]['sweeps']} sweeps, "
+                     f"RMSE {self.stats[part]['rmse']:.3g} {unit}", fontsize=9)
         ax.grid(alpha=0.3)
         return ax
 
-    def _facet_figure(self, part: str):
-        import matplotlib.pyplot as plt
+    def facet_figures(self, part: str, max_rows: int = 4) -> list:
+        """One figure per page of panels showing every sweep of ``part`` (see :meth:`facets`).
 
-        df = self._parts[part].data.df
-        cams = np.unique(np.round(np.degrees(df["camber"].to_numpy()) * 4) / 4) if part != "longitudinal" else [0.0]
-        pres = np.unique(np.round(df["pressure"].to_numpy(), -3)) if "pressure" in df and df["pressure"].notna().all() \
-            else [None]
-        cams = list(cams)[:6]
-        pres = list(pres)[:4]
-        fig, axes = plt.subplots(len(pres), len(cams), figsize=(4.2 * len(cams), 3.4 * len(pres)), squeeze=False)
-        for i, p in enumerate(pres):
-            for j, c in enumerate(cams):
-                ax = self.plot(axes[i][j], part=part, camber=math.radians(c), pressure=p)
-                if p is not None:
-                    ax.set_title(ax.get_title() + f", {p / 1e5:.2f} bar")
-        fig.tight_layout()
-        return fig
+        Each figure's title names the model, what it carries and the
+        conditions common to every panel; each panel's title gives its
+        condition levels in display units.  Returns a list of
+        :class:`matplotlib.figure.Figure`.
+        """
+        from matplotlib.figure import Figure
+
+        from ..io.facets import pages
+
+        facets, info = self.facets(part)
+        lo, hi = self.stats[part]["fz_range"]
+        figs = []
+        all_pages = pages(facets, max_rows=max_rows)
+        ncols = max(f.col for f in facets) + 1
+        for k, page in enumerate(all_pages):
+            rows = sorted({f.row for f in page})
+            fig = Figure(figsize=(4.2 * ncols, 3.4 * len(rows) + 0.7))
+            axes = fig.subplots(len(rows), ncols, squeeze=False, sharex=True, sharey=True)
+            used = set()
+            for f in page:
+                i = rows.index(f.row)
+                self._draw_panel(axes[i][f.col], part, f, fz_range=(lo, hi))
+                used.add((i, f.col))
+            for i in range(len(rows)):
+                for j in range(ncols):
+                    if (i, j) not in used:
+                        axes[i][j].set_visible(False)
+            const = describe_constant_text(info)
+            title = self.figure_title(part) + (f"\nall sweeps at {const}" if const else "")
+            if len(all_pages) > 1:
+                title += f" (page {k + 1} of {len(all_pages)})"
+            fig.suptitle(title, fontsize=10)
+            fig.tight_layout()
+            figs.append(fig)
+        return figs
+
+    def _facet_figure(self, part: str):
+        """The first page of :meth:`facet_figures` (kept for callers of the old name)."""
+        return self.facet_figures(part)[0]
 
     def _residual_figure(self, part: str):
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
-        fig, ax = plt.subplots(figsize=(7, 3.6))
-        self.plot_residuals(ax, part=part)
+        fig = Figure(figsize=(7, 3.6))
+        self.plot_residuals(fig.subplots(), part=part)
         fig.tight_layout()
         return fig
 
 
-def _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info) -> Pac89Tyre:
+#: the one noise-floor definition of fit, diagnose and compare
+NOISE_FLOOR_DEFINITION = ("pooled RMSE of a smooth curve (cubic spline, knots every 1.5 deg of slip angle / 0.03 "
+                          "slip ratio, plus a load-jitter term) through each sweep on its own "
+                          "(tyrefit.diagnose.stats.noise_floor)")
+#: PAC89 coefficients that carry camber, per part
+_CAMBER_TERMS = {"lateral": ("a5", "a8", "a11"), "longitudinal": (),
+                 "aligning": ("c6", "c10", "c11", "c14", "c15")}
+#: condition channels PAC89 has no input for
+_NOT_IN_PAC89 = ("pressure", "speed")
+
+
+def _esc(s) -> str:
+    import html
+
+    return html.escape(str(s))
+
+
+def describe_constant_text(info: dict) -> str:
+    from ..io.facets import describe_constant
+
+    return describe_constant(info)
+
+
+def within_sweep_noise(d, part: str) -> tuple[float, pd.Series]:
+    """Within-sweep noise floor [N or N*m] of one part's data and its per-sweep values.
+
+    :func:`tyrefit.diagnose.stats.noise_floor` on the part's sweeps (slip,
+    force or moment, measured load), so ``fit`` and ``diagnose`` report the
+    same number for the same sweeps.
+    """
+    from ..diagnose.stats import noise_floor as _nf
+
+    runs = np.asarray(d.run)
+    # diagnose's sampling (tyrefit.diagnose.data.prepare): each sweep thinned evenly along the record to at
+    # most max_points_per_sweep points, so both commands estimate the floor from the same points
+    import inspect
+
+    from ..diagnose.data import prepare
+
+    npts = int(inspect.signature(prepare).parameters["max_points_per_sweep"].default)
+    take = []
+    for r in np.unique(runs):
+        i = np.flatnonzero(runs == r)
+        if len(i) > npts:
+            i = i[np.unique(np.round(np.linspace(0, len(i) - 1, npts)).astype(int))]
+        take.append(i)
+    take = np.sort(np.concatenate(take)) if take else np.zeros(0, int)
+    uniq, idx = np.unique(runs[take], return_inverse=True)
+    floor, per = _nf(np.asarray(d.slip, float)[take], np.asarray(d.y, float)[take], idx,
+                     spacing_deg=_FLOOR_SPACING[part], fz=np.asarray(d.fz, float)[take])
+    return float(floor), pd.Series(per, index=uniq, dtype=float)
+
+
+def _at_bound(v: float, lo: float, hi: float) -> str | None:
+    """'lower' / 'upper' when ``v`` sits on a finite bound (relative 1e-6), else None."""
+    for side, b in (("lower", lo), ("upper", hi)):
+        if np.isfinite(b) and abs(v - b) <= 1e-6 * max(1.0, abs(b)):
+            return side
+    return None
+
+
+def _merged_levels(fits: dict) -> dict:
+    """Channels PAC89 cannot carry (pressure, speed) with more than one level in the fitted data -> levels [SI]."""
+    from ..io.facets import sweep_conditions, channel_levels
+
+    frames = []
+    for pf in fits.values():
+        sc = sweep_conditions(pf.data.df, _NOT_IN_PAC89)
+        frames.append(sc)
+    out = {}
+    for c in _NOT_IN_PAC89:
+        arrs = [f[c].to_numpy(float) for f in frames if c in f]
+        vals = np.concatenate(arrs) if arrs else np.array([])
+        vals = vals[np.isfinite(vals)]
+        if vals.size:
+            lv, _ = channel_levels(vals, c)
+            if len(lv) > 1:
+                out[c] = lv
+    return out
+
+
+def _merged_text(channel: str, levels) -> str:
+    from ..io.facets import _DISPLAY, _decimals
+
+    f, unit, _ = _DISPLAY[channel]
+    d = _decimals(channel, levels)
+    lv = ", ".join(f"{x * f:.{d}f}" for x in levels)
+    return (f"{channel}: not in the model (PAC89 has no {channel} input): {len(levels)} levels ({lv}{unit}) "
+            f"merged into one tyre; `tyrefit fit --by {channel}` writes one tyre per level")
+
+
+def _fit_warnings(coefs: pd.DataFrame, stats: dict, merged: dict) -> list[str]:
+    """Coefficients at a bound, RMSE above FLOOR_RATIO_WARN x the noise floor, merged condition levels."""
+    out = []
+    for r in coefs.itertuples():
+        if r.status.startswith("at its"):
+            out.append(f"{r.part}: {r.name} = {r.value:.4g} is {r.status.split(':')[0][3:]}; the fit is "
+                       "constrained there, its standard error means nothing and the shape it sets may be wrong")
+    for part, s in stats.items():
+        nf = s["noise_floor"]
+        if np.isfinite(nf) and nf > 0 and s["rmse"] > FLOOR_RATIO_WARN * nf:
+            out.append(f"{part}: RMSE {s['rmse']:.3g} {s['unit']} is {s['rmse'] / nf:.1f} x the within-sweep noise "
+                       f"floor {nf:.3g} {s['unit']}: the model does not reach the noise (structure left in the "
+                       "residuals; see the panels)")
+    for c, lv in merged.items():
+        out.append(_merged_text(c, lv))
+    return out
+
+
+def _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info, warns=()) -> Pac89Tyre:
     design = {}
     extra_header = []
     if tyre_info is not None:
@@ -448,9 +719,14 @@ def _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info) -> Pac89Tyre:
         header.append(f"{name}: {s['n']} points in {s['sweeps']} sweeps, Fz {lo:.0f}-{hi:.0f} N; "
                       f"RMSE {s['rmse']:.4g} {s['unit']}, R2 {s['r2']:.5f}, noise floor {s['noise_floor']:.3g} "
                       f"{s['unit']}")
+    for part in ("lateral", "longitudinal", "aligning"):
+        if part not in fits:
+            header.append(f"{part} ({_PART_COEFS[part]}): NOT FITTED - the data hold no {_PART_NEEDS[part]}; "
+                          "its coefficients are placeholders, not a model of this tyre")
     if not_id:
         header.append("not identifiable from the data (held at neutral values): " + ", ".join(sorted(
             not_id, key=lambda k: (k[0], int(k[1:])))))
+    header += [f"WARNING: {w}" for w in warns]
     header += extra_header
     return Pac89Tyre(coefficients=Pac89Tyre.coefficients_from(coeffs), ranges=ranges, header=header,
                      **{k: v for k, v in design.items()})

@@ -110,7 +110,8 @@ def _local_maxima(c: np.ndarray, min_height: float) -> np.ndarray:
         higher_left = np.flatnonzero(c[:k] > c[k])
         higher_right = np.flatnonzero(c[k + 1:] > c[k]) + k + 1
         lo_l = c[higher_left[-1]:k + 1].min() if higher_left.size else c[:k + 1].min()
-        lo_r = c[k:higher_right[0] + 1].min() if higher_right.size else c[k:].min()
+        # no higher peak to the right: the valley is the empty histogram beyond the last bin
+        lo_r = c[k:higher_right[0] + 1].min() if higher_right.size else 0.0
         if c[k] - max(lo_l, lo_r) >= min_height / 2:
             keep.append(int(k))
     return np.asarray(keep, dtype=int)

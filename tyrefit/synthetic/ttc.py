@@ -96,8 +96,11 @@ def _triangle(amp: float, rate_deg_s: float):
     return f, T
 
 
-def make_record(seed: int = SEED, rate: float = 20.0) -> tuple[pd.DataFrame, list[dict]]:
+def make_record(seed: int = SEED, rate: float = 20.0, programme: dict | None = None) -> tuple[pd.DataFrame, list[dict]]:
     """The continuous record in SI and ISO-W, and the list of the sweeps it holds.
+
+    ``programme`` updates :data:`PROGRAMME` (other loads, cambers, pressures or
+    sweep amplitude; with one entry in ``speeds_kmh`` there is no speed block).
 
     Returns
     -------
@@ -108,7 +111,7 @@ def make_record(seed: int = SEED, rate: float = 20.0) -> tuple[pd.DataFrame, lis
         ``pressure_kpa``, ``speed_kmh``.
     """
     rng = np.random.default_rng(seed)
-    P = PROGRAMME
+    P = {**PROGRAMME, **(programme or {})}
     amp = P["sweep_amplitude_deg"]
     tri, T = _triangle(amp, P["sweep_rate_deg_s"])
     segs, truth = [], []
@@ -141,12 +144,12 @@ def make_record(seed: int = SEED, rate: float = 20.0) -> tuple[pd.DataFrame, lis
             for load in P["loads_N"]:
                 sweep(load, ia, p, v_now)
     # speed step at the last pressure, camber back to 0
-    v_b = P["speeds_kmh"][1]
-    segs.append(_segment(2.5, rate, fz_now, P["loads_N"][0], ia_now, 0, p_now, p_now, v_now, v_now))
-    segs.append(_segment(4, rate, P["loads_N"][0], P["loads_N"][0], 0, 0, p_now, p_now, v_now, v_b))
-    fz_now, ia_now, v_now = P["loads_N"][0], 0.0, v_b
-    for load in P["loads_N"]:
-        sweep(load, 0.0, p_now, v_now)
+    for v_b in P["speeds_kmh"][1:]:
+        segs.append(_segment(2.5, rate, fz_now, P["loads_N"][0], ia_now, 0, p_now, p_now, v_now, v_now))
+        segs.append(_segment(4, rate, P["loads_N"][0], P["loads_N"][0], 0, 0, p_now, p_now, v_now, v_b))
+        fz_now, ia_now, v_now = P["loads_N"][0], 0.0, v_b
+        for load in P["loads_N"]:
+            sweep(load, 0.0, p_now, v_now)
     segs.append(_segment(2, rate, fz_now, 0, 0, 0, p_now, p_now, v_now, v_now))
     segs.append(_segment(3, rate, 0, 0, 0, 0, p_now, p_now, v_now, 0))
 
@@ -161,7 +164,7 @@ def make_record(seed: int = SEED, rate: float = 20.0) -> tuple[pd.DataFrame, lis
     v = cat["v"] + rng.normal(0, 0.15, n) * (cat["v"] > 0)
     # tyre model on the true (set) slip; pressure and speed scale peak and stiffness
     coef = dict(FSAE_PAC89)
-    rel_p = cat["p"] / P["pressures_kPa"][0] - 1
+    rel_p = cat["p"] / PROGRAMME["pressures_kPa"][0] - 1
     k_d = (1 - 0.25 * rel_p) * (1 - 0.0006 * np.clip(cat["v"] - 40, 0, None))
     k_k = 1 + 0.3 * rel_p
     fzk = np.clip(cat["fz"] * (1 + 0.03 * (cat["sa"] / amp) ** 2), 1.0, None)
