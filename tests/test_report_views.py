@@ -1,0 +1,146 @@
+"""The fit report's views show every condition level of the data, each panel titled with its true conditions.
+
+Checked from the figure objects themselves (axes titles, the model lines'
+data), on a generated FSAE-style record of 3 pressures x 3 cambers x 5 loads
+(45 sweeps, :func:`tyrefit.synthetic.ttc.make_record` with its own seeded
+programme) and on drive/brake sweeps at 2 pressures x 2 cambers x 3 loads.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tyrefit.io.facets import channel_levels, facet_sweeps, format_condition
+from tyrefit.models import pac89
+from tyrefit.synthetic.pac89_example import EXAMPLE
+
+PROGRAMME = {"loads_N": [1100.0, 660.0, 220.0, 1550.0, 880.0], "cambers_deg": [0.0, 2.0, 4.0],
+             "pressures_kPa": [82.7, 68.9, 96.5], "speeds_kmh": [40.0], "sweep_amplitude_deg": 9.75}
+
+
+@pytest.fixture(scope="module")
+def fsae45():
+    """The 45-sweep record (segmented), its set points per run, and the fit."""
+    from tyrefit.fitting import fit_pac89
+    from tyrefit.io.readers import Dataset  # noqa: F401 - the reader path is exercised by the CLI tests
+    from tyrefit.io.segment import segment_record
+    from tyrefit.synthetic.ttc import make_record
+
+    rec, truth = make_record(seed=7, rate=10.0, programme=PROGRAMME)
+    df, meta = segment_record(rec, "slip_angle", "fsae45")
+    assert meta["n_sweeps"] == 45
+    res = fit_pac89(df[["run", "fz", "fy", "mz", "slip_angle", "camber", "pressure", "speed"]])
+    return df, truth, res
+
+
+def _panels(figs):
+    return [ax for fig in figs for ax in fig.axes if ax.get_visible() and ax.get_title()]
+
+
+def _model_lines(ax):
+    return {int(ln.get_gid().split()[-1]): ln for ln in ax.get_lines() if (ln.get_gid() or "").startswith("model run")}
+
+
+@pytest.mark.parametrize("part", ["lateral", "aligning"])
+def test_every_sweep_of_the_45_is_drawn_once_under_its_true_conditions(fsae45, part):
+    df, truth, res = fsae45
+    figs = res.facet_figures(part)
+    panels = _panels(figs)
+    assert len(panels) == 9  # 3 pressures x 3 cambers, nothing dropped, nothing repeated
+    seen = []
+    sweep_mean = df.groupby("run")[["pressure", "camber", "fz"]].mean()
+    titles = set()
+    for ax in panels:
+        t = ax.get_title()
+        titles.add(t)
+        m = re.fullmatch(r"pressure (\d+) kPa, camber (-?\d+\.\d)°", t)
+        assert m, t
+        p_kpa, cam = float(m.group(1)), float(m.group(2))
+        lines = _model_lines(ax)
+        assert len(lines) == 5  # the five loads
+        for run, ln in lines.items():
+            seen.append(run)
+            # the set points the generator used for this sweep (segmentation keeps the record order)
+            assert abs(truth[run]["camber_deg"] - cam) < 0.15
+            # the title shows the measured level (the tyre warms: up to +1.5 kPa over the set point)
+            assert abs(sweep_mean.loc[run, "pressure"] / 1e3 - p_kpa) <= 1.5
+            assert abs(truth[run]["pressure_kpa"] - p_kpa) <= 2.5
+            # the line is the model at this sweep's own mean load and camber
+            x = np.radians(ln.get_xdata())
+            fz, gam = sweep_mean.loc[run, "fz"], sweep_mean.loc[run, "camber"]
+            want = (res.tyre.fy(fz, x, gam) if part == "lateral" else res.tyre.mz(fz, x, gam))
+            np.testing.assert_allclose(ln.get_ydata(), want, rtol=1e-9, atol=1e-9)
+            assert ln.get_label() == f"{fz / 1e3:.2f} kN"
+    assert sorted(seen) == list(range(45))
+    assert len(titles) == 9
+    for fig in figs:
+        sup = fig._suptitle.get_text()
+        assert "PAC89" in sup and "pressure not in the model" in sup and "speed 40 km/h" in sup
+
+
+def test_report_header_and_warnings_say_what_the_tyre_lacks(fsae45):
+    _, _, res = fsae45
+    text = "\n".join(res.model_lines())
+    assert "longitudinal Fx (b0-b10): NOT FITTED" in text
+    assert re.search(r"pressure: not in the model .* 3 levels \(70, 84, 98 kPa\)", text)
+    assert any(w.startswith("pressure: not in the model") for w in res.warnings)
+    assert any("NOT FITTED" in h for h in res.tyre.header)
+    tab = res.sweeps_table()
+    assert "pressure [kPa]" in tab and tab["pressure [kPa]"].between(60, 110).all()
+
+
+def test_many_levels_are_paginated_not_dropped():
+    """5 pressures x 2 cambers with at most 2 rows per page: 3 pages, every panel present."""
+    rows = []
+    run = 0
+    for p in (180e3, 200e3, 220e3, 240e3, 260e3):
+        for c in (-0.0314, 0.0314):
+            for fz in (2000.0, 4000.0):
+                a = np.radians(np.linspace(-8, 8, 30))
+                rows.append(pd.DataFrame({"run": run, "fz": fz, "slip_angle": a, "camber": c, "pressure": p,
+                                          "fy": pac89.lateral_force(EXAMPLE, fz, a, c)}))
+                run += 1
+    df = pd.concat(rows, ignore_index=True)
+    from tyrefit.io.facets import pages
+
+    facets, info = facet_sweeps(df, ("pressure", "speed", "camber"))
+    assert info["varying"] == ["pressure", "camber"]
+    assert [f.title for f in facets[:2]] == ["pressure 180 kPa, camber -1.8°", "pressure 180 kPa, camber 1.8°"]
+    pg = pages(facets, max_rows=2)
+    assert [len(p) for p in pg] == [4, 4, 2]
+    assert sorted(r for f in facets for r in f.runs) == list(range(run))
+
+
+def test_drive_brake_sweeps_all_drawn():
+    """Slip-ratio sweeps at 2 pressures x 2 cambers x 3 loads: 4 panels, 12 sweeps."""
+    from tyrefit.fitting import fit_pac89
+
+    rng = np.random.default_rng(3)
+    rows, run = [], 0
+    for p in (83e3, 97e3):
+        for c in (0.0, math.radians(2.0)):
+            for fz in (700.0, 1100.0, 1500.0):
+                s = np.linspace(-0.2, 0.2, 60)
+                fx = pac89.longitudinal_force(EXAMPLE, fz, s) + rng.normal(0, 5, s.size)
+                rows.append(pd.DataFrame({"run": run, "fz": fz + rng.normal(0, 3, s.size), "slip_ratio": s,
+                                          "camber": c, "pressure": p, "fx": fx}))
+                run += 1
+    res = fit_pac89(pd.concat(rows, ignore_index=True))
+    panels = _panels(res.facet_figures("longitudinal"))
+    assert sorted(ax.get_title() for ax in panels) == sorted(
+        f"pressure {p} kPa, camber {c}°" for p in (83, 97) for c in ("0.0", "2.0"))
+    assert sorted(r for ax in panels for r in _model_lines(ax)) == list(range(12))
+
+
+def test_levels_and_labels():
+    lv, idx = channel_levels(np.r_[[2e5] * 3, [2.3e5] * 3, [2.6e5] * 3] + np.tile([0, 300, -300], 3), "pressure")
+    np.testing.assert_allclose(lv, [2e5, 2.3e5, 2.6e5])  # the top level too (it sits in the last bin)
+    assert list(idx) == [0, 0, 0, 1, 1, 1, 2, 2, 2]
+    assert format_condition("camber", math.radians(-0.000451)) == "camber 0.0°"
+    assert format_condition("pressure", 83450.0) == "pressure 83 kPa"
+    assert format_condition("speed", 40 / 3.6) == "speed 40 km/h"
