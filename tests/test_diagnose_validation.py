@@ -1,0 +1,224 @@
+"""The non-circular diagnose validation: its truth physics, noise, runner, and a handful of diagnoses.
+
+The truth tyre (:mod:`tyrefit.synthetic.validation.truth`) is checked with
+physics: limits (slope at zero slip, saturation at mu Fz), symmetries (odd in
+slip), and that every effect changes what it names while the null tyre has
+none of it.  The slow tier (``tests/test_diagnose_suite.py``) runs the rates.
+"""
+
+import ast
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tyrefit.synthetic.validation import cases as vc
+from tyrefit.synthetic.validation import runner as vr
+from tyrefit.synthetic.validation.truth import EFFECT_SIZES, EFFECTS, FZ0, P0, RATED_LOAD, TruthTyre
+
+DEG = np.pi / 180.0
+NULL = TruthTyre()
+ALPHA = np.linspace(-12, 12, 241) * DEG
+
+
+def _fy(t, fz, alpha=ALPHA, camber=0.0, pressure=P0):
+    return t.lateral_force(np.full_like(alpha, fz), alpha, camber, pressure)
+
+
+def test_truth_code_does_not_use_the_catalogue_or_pac89():
+    pkg = Path(vr.__file__).parent
+    for name in ("truth.py", "cases.py"):
+        tree = ast.parse((pkg / name).read_text())
+        mods = [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+        mods += [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+        assert not [m for m in mods if "effects" in m or "pac89" in m or "models" in m or "diagnose" in m], mods
+
+
+@pytest.mark.parametrize("fz", [2000.0, 4000.0, 8000.0])
+def test_null_tyre_limits_and_symmetry(fz):
+    fy = _fy(NULL, fz)
+    np.testing.assert_allclose(fy, -fy[::-1], atol=1e-9)  # odd in slip: no shift in the null
+    h = 1e-6
+    slope = (NULL.lateral_force(fz, h) - NULL.lateral_force(fz, -h)) / (2 * h)
+    assert slope == pytest.approx(-NULL.cornering_stiffness(fz), rel=1e-6)  # ISO-W: dFy/dalpha = -K_alpha
+    assert np.max(np.abs(fy)) < NULL.mu0 * fz
+    # peak inside the sweep, sliding value below it and towards mu (1 - d) far out
+    k = np.argmax(np.abs(fy[ALPHA > 0]))
+    assert 3.0 < np.degrees(ALPHA[ALPHA > 0][k]) < 12.0 or fz >= 8000.0
+    far = abs(NULL.lateral_force(fz, 80 * DEG))
+    assert far == pytest.approx(NULL.mu0 * fz * (1 - NULL.d), rel=0.03)
+
+
+def test_null_tyre_realistic_magnitudes():
+    k4 = NULL.cornering_stiffness(4000.0)
+    assert 50e3 < k4 < 80e3  # N/rad: 205/55R16 around 60-80 kN/rad at 4 kN
+    assert 10 < NULL.cornering_stiffness(2000.0) / 2000.0 < 20  # cornering-stiffness coefficient [1/rad]
+
+
+def _peak_mu(t, fz, **kw):
+    return np.max(np.abs(_fy(t, fz, **kw))) / fz
+
+
+def test_null_has_no_effect_and_effects_change_what_they_name():
+    loads = [2000.0, 4000.0, 6000.0, 8000.0]
+    null_mu = [_peak_mu(NULL, f) for f in loads]
+    np.testing.assert_allclose(null_mu, null_mu[0], rtol=1e-3)  # grip does not change with load
+    for eff in ("load_friction_power", "load_friction_tanh"):
+        t = TruthTyre.with_effects([eff])
+        mu = np.array([_peak_mu(t, f) for f in loads])
+        assert np.all(np.diff(mu) < 0), eff  # degressive
+        assert 0.75 < mu[-1] / mu[0] < 0.92, eff  # 8-25 % over 2 -> 8 kN
+    # overload: nothing well below the rated load, a smooth knee past it
+    t = TruthTyre.with_effects(["overload"])
+    assert t.friction(0.7 * RATED_LOAD) / NULL.friction(0.7 * RATED_LOAD) > 0.997
+    r8 = t.friction(8000.0) / NULL.friction(8000.0)
+    assert 0.8 < r8 < 0.9
+    f = np.linspace(4000, 9000, 501)
+    d2 = np.diff(t.friction(f), 2)
+    assert np.all(d2 <= 1e-12) and np.max(np.abs(d2)) < 1e-5  # concave, no kink
+    # curvature: the normalised curve shape changes with load only when the effect is there
+    for tyre, changes in ((NULL, False), (TruthTyre.with_effects(["curvature"]), True)):
+        shapes = []
+        for fz in (2000.0, 8000.0):
+            phi = np.linspace(0.05, 4, 50)
+            alpha = np.arctan(phi * tyre.friction(fz) * fz / tyre.cornering_stiffness(fz))
+            shapes.append(-tyre.lateral_force(np.full_like(alpha, fz), alpha) / (tyre.friction(fz) * fz))
+        diff = np.max(np.abs(shapes[0] - shapes[1]))
+        assert (diff > 0.02) == changes, (tyre.effects, diff)
+        # the friction and the stiffness do not change with the curvature effect
+        assert tyre.friction(8000.0) == NULL.friction(8000.0)
+
+
+def test_offsets_are_a_slip_offset_and_a_force_growing_with_load():
+    t = TruthTyre.with_effects(["offsets"])
+    assert NULL.lateral_force(5000.0, 0.0) == 0.0
+    f0 = [t.lateral_force(fz, -t.alpha_ps) for fz in (2000.0, 8000.0)]
+    np.testing.assert_allclose(f0, [-t.c_con * 2000.0, -t.c_con * 8000.0], atol=1e-9)  # conicity ~ Fz
+    assert 20 < abs(f0[0]) < 150 and 0.05 * DEG < abs(t.alpha_ps) < 0.5 * DEG  # uniformity sizes
+    # no longer odd in slip
+    fy = _fy(t, 5000.0)
+    assert np.max(np.abs(fy + fy[::-1])) > 50.0
+
+
+def test_camber_thrust_saturates_fades_and_null_has_none():
+    t = TruthTyre.with_effects(["camber"])
+    g = np.array([-8, -4, 0, 4, 8]) * DEG
+    for fz in (2000.0, 6000.0):
+        assert np.all(NULL.lateral_force(fz, 0.0 * g, g) == 0.0)
+        f = t.lateral_force(np.full(5, fz), 0.0 * g, g)
+        np.testing.assert_allclose(f, -f[::-1], atol=1e-9)  # odd in camber at zero slip
+        assert f[3] < 0  # ISO-W: positive inclination pushes towards -y, like positive slip
+        assert abs(f[4]) < 1.8 * abs(f[3])  # saturating
+        assert abs(f[3]) == pytest.approx(t.c_gamma * fz * t.g_s * np.tanh(4 * DEG / t.g_s), rel=1e-9)
+    # fades where the patch slides: the camber part at 12 deg slip is a small share of that at 0
+    d0 = t.lateral_force(4000.0, 0.0, 4 * DEG) - t.lateral_force(4000.0, 0.0, 0.0)
+    d12 = t.lateral_force(4000.0, 12 * DEG, 4 * DEG) - t.lateral_force(4000.0, 12 * DEG, 0.0)
+    assert abs(d12) < 0.25 * abs(d0)
+
+
+def test_pressure_raises_stiffness_lowers_grip_and_null_ignores_it():
+    t = TruthTyre.with_effects(["pressure"])
+    for p in (190e3, 250e3):
+        np.testing.assert_array_equal(_fy(NULL, 4000.0, pressure=p), _fy(NULL, 4000.0, pressure=P0))
+    assert t.cornering_stiffness(4000.0, 250e3) > 1.03 * t.cornering_stiffness(4000.0, P0)
+    assert _peak_mu(t, 4000.0, pressure=250e3) < 0.995 * _peak_mu(t, 4000.0, pressure=P0)
+
+
+def test_every_effect_has_a_size_and_a_family():
+    assert set(EFFECT_SIZES) == set(EFFECTS)
+    with pytest.raises(ValueError, match="unknown validation effect"):
+        TruthTyre.with_effects(["nope"])
+    assert FZ0 == 4000.0
+
+
+@pytest.mark.parametrize("kind", vc.NOISE_MODELS)
+def test_noise_models_have_the_stated_sd_and_correlation(kind):
+    rng = np.random.default_rng(5)
+    sweep = np.repeat(np.arange(400), 49)
+    e = vc.noise(kind, sweep, 40.0, rng)
+    assert np.std(e) == pytest.approx(40.0, rel=0.03)
+    e2 = e.reshape(400, 49)
+    lag1 = np.mean(e2[:, :-1] * e2[:, 1:]) / np.mean(e2 * e2)  # pooled over sweeps (per-sweep r is biased low)
+    means_sd = np.std(e2.mean(axis=1))
+    if kind == "ar1":
+        assert lag1 == pytest.approx(vc.AR_RHO, abs=0.04)
+    elif kind == "offsets":
+        assert lag1 == pytest.approx(vc.OFFSET_SHARE**2, abs=0.04)  # the shared offset, nothing else
+    else:
+        assert abs(lag1) < 0.03
+    if kind == "offsets":
+        assert means_sd == pytest.approx(np.sqrt((0.5 * 40) ** 2 + 0.75 * 40**2 / 49), rel=0.1)
+    if kind == "iid":
+        assert means_sd == pytest.approx(40 / 7, rel=0.1)
+
+
+def test_cases_are_deterministic_and_layouts_as_stated():
+    a = vc.make_case("load6", "ar1", "offsets", 3)
+    b = vc.make_case("load6", "ar1", "offsets", 3)
+    c = vc.make_case("load6", "ar1", "offsets", 4)
+    assert a.data.equals(b.data) and not a.data["fy"].equals(c.data["fy"])
+    assert a.data["run"].nunique() == 6 and a.family == "offsets"
+    assert set(a.data.columns) >= {"run", "fz", "slip_angle", "fy", "camber", "pressure"}
+    assert np.degrees(a.data["slip_angle"]).min() == pytest.approx(-12) and a.data.groupby("run").size().iloc[0] == 49
+    assert vc.make_case("grid24", "iid", None, 0).data["run"].nunique() == 24
+    assert vc.make_case("grid60", "iid", None, 0).data["run"].nunique() == 60
+    assert vc.make_case("onesided6", "iid", None, 0).data["slip_angle"].min() == 0.0
+    # ISO-W: positive slip gives negative force
+    d = a.data
+    assert (d.loc[d.slip_angle > 4 * DEG, "fy"] < 0).all()
+    assert not vc.applicable(vc.LAYOUTS["load6"], "camber") and vc.applicable(vc.LAYOUTS["grid24"], "pressure")
+
+
+def test_start_model_follows_the_null_but_not_the_effects():
+    bf = vr.base_fit(["load6"])["load6"]
+    assert bf["null"] < 0.2  # a null the start model can represent (RMSE / sigma)
+    for eff in ("load_friction_power", "load_friction_tanh", "curvature", "overload", "offsets"):
+        assert bf[eff] > 1.0, (eff, bf[eff])
+
+
+def test_wilson_interval():
+    lo, hi = vr.wilson(0, 200)
+    assert lo == 0.0 and hi == pytest.approx(0.0188, abs=5e-4)  # 3.84 / (200 + 3.84)
+    lo, hi = vr.wilson(95, 100)
+    assert lo == pytest.approx(0.888, abs=2e-3) and hi == pytest.approx(0.978, abs=2e-3)
+
+
+def test_plan_filters():
+    p = vr.plan_cases(["load6"], ["iid"], ["null"], n_null=7)
+    assert len(p) == 7 and all(e is None for _, _, e, _ in p)
+    p = vr.plan_cases(["load6"], None, ["load_friction"], n_effect=2)
+    assert {e for _, _, e, _ in p} == {"load_friction_power", "load_friction_tanh"} and len(p) == 12
+    assert not [c for c in vr.plan_cases(["load6"], None, ["camber"])]  # no camber levels in load6
+    with pytest.raises(ValueError, match="unknown layout"):
+        vr.plan_cases(["nope"])
+
+
+def test_runner_scores_caches_and_tabulates(tmp_path, monkeypatch):
+    cases = [("grid24", "iid", "load_friction_tanh", 0), ("load6", "iid", None, 0)]
+    rows = vr.run(cases, out=tmp_path, verbose=False)
+    eff, null = sorted(rows, key=lambda r: r["effect"] is None)
+    assert eff["right_first"] and eff["first_family"] == "load_friction" and eff["ratio"] < 1.3
+    assert null["false_alarm"] is False and 0.8 < null["ratio"] < 1.3
+    # cached: a second run does not diagnose again
+    monkeypatch.setattr(vr, "run_case", lambda *a, **k: pytest.fail("not cached"))
+    again = vr.run(cases, out=tmp_path, verbose=False)
+    assert sorted(json.dumps(r, sort_keys=True) for r in again) == sorted(json.dumps(r, sort_keys=True) for r in rows)
+    res = vr.rates(rows)
+    md = vr.markdown(res)
+    assert "| grid24 | iid | load_friction_tanh (load_friction) | 1 | 100 %" in md
+    assert "| load6 | iid | null | 1 |" in md and "0 % [0-79]" in md
+
+
+@pytest.mark.parametrize("layout,noise,effect", [
+    ("load6", "iid", None), ("load6", "ar1", None), ("grid24", "offsets", None),
+    ("grid24", "ar1", "camber"), ("grid24", "offsets", "overload"), ("grid24", "iid", "pressure"),
+])
+def test_a_handful_of_diagnoses(layout, noise, effect):
+    row = vr.run_case(layout, noise, effect, seed=11)
+    assert "error" not in row, row
+    if effect is None:
+        assert not row["false_alarm"], row
+    else:
+        assert row["right_first"], row
+        assert row["ratio"] <= 1.3, row
