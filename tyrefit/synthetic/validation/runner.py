@@ -55,12 +55,12 @@ _PKG = Path(__file__).resolve().parents[2]
 
 
 def fingerprint() -> str:
-    """Hash of the code that scores a case: tyrefit/diagnose, tyrefit/effects, this package, the fitter."""
+    """Hash of the code that scores a case: tyrefit/diagnose, tyrefit/effects, this package, the PAC89 model."""
     h = hashlib.sha1()
-    for sub in ("diagnose", "effects", "synthetic/validation", "models"):
-        for p in sorted((_PKG / sub).rglob("*.py")):
-            h.update(p.relative_to(_PKG).as_posix().encode())
-            h.update(p.read_bytes())
+    files = [p for sub in ("diagnose", "effects", "synthetic/validation") for p in sorted((_PKG / sub).rglob("*.py"))]
+    for p in files + sorted((_PKG / "models").glob("pac89*.py")):
+        h.update(p.relative_to(_PKG).as_posix().encode())
+        h.update(p.read_bytes())
     return h.hexdigest()[:12]
 
 
