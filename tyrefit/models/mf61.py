@@ -27,26 +27,43 @@ Conventions
 What is implemented (MF 6.1, ``version='6.1'``)
 -----------------------------------------------
 * Pure slip Fx0 (4.E9-4.E18), Fy0 (4.E19-4.E30), Mz0 (4.E31-4.E49), with
-  camber (gamma* = sin gamma, 4.E4) and pressure (PPX1-4, PPY1-5, PPZ1-2).
+  camber and pressure (PPX1-4, PPY1-5, PPZ1-2).
 * Combined slip: Gx_alpha (4.E50-4.E57), Gy_kappa and SVy_kappa
   (4.E58-4.E67), combined Mz with the s*Fx term (4.E71-4.E78).
-* Mx as the MF 6.1 manual defines it (4.E69 plus the QSX12-QSX14 terms and
-  the squared argument ``arctan((QSX6 Fz/Fz0)^2)``), with PPMX1.
-* My as the 6.1 paper (A48) (= 4.E70 with Fz0 in front and the sign of ISO-W:
-  rolling resistance opposes forward rolling, My < 0).
+* Mx as the MF 6.1 manual / Besselink's draft paper eq. (49) define it: (4.E69)
+  plus QSX12-QSX14 and the squared argument ``arctan((QSX6 Fz/Fz0)^2)``, with PPMX1.
+* My as the 6.1 paper (A48): (4.E70) with Fz0 in front and the ISO-W sign
+  (rolling resistance opposes forward rolling, My < 0).
 * Digressive friction scaling (4.E7, 4.E8) with LMUV (speed decay) and
-  ``A_MU = 1`` (MFeval finds 1 reproduces TNO; the book suggests 10 -
-  this only matters when LMUX/LMUY != 1).
-* Low speed (|Vcx| < VXLOW): the MF 6.1 smooth reduction
-  ``r = 0.5 * (1 - cos(pi * Vcx / VXLOW))`` multiplies the shifts SHx, SVx,
-  SHy, SVy, SVy_kappa, the pneumatic trail t, the residual torque Mzr and My
-  so that they vanish at standstill; slip inputs are taken as given (the
-  caller defines slip at low speed).  cos(alpha') = Vcx / (Vc + eps_V)
-  (4.E6, 4.E6a) with Vc from Vcx and Vsy = tan(alpha) |Vcx|.
-  epsilon guards (4.E6a): eps_x = eps_y = eps_K = eps_V = 1e-6 in the
-  denominators of Bx (4.E16), By (4.E26), SHy and SHf (K'y_alpha, 4.E39)
-  and cos(alpha').
-* E factors are limited to <= 1 (4.E14, 4.E24, 4.E44, 4.E56, 4.E64).
+  ``A_MU = 1``.
+
+Where TNO's MF-Tyre 6.1 departs from the book, this module follows TNO, with
+the choices MFeval 4.0 (M. Furlan) documents as reproducing TNO's solver
+("Changes in the equations" in its documentation); the test against MFeval
+(``tests/test_mf61_model.py``) agrees to 1e-13 of peak:
+
+* alpha* = alpha and gamma* = gamma (the tan/sin forms of 4.E3, 4.E4 are not used);
+* A_MU = 1 in (4.E8) (the book suggests 10; it matters only when LMUX/LMUY != 1);
+* Bt with (1 + QBZ4 gamma + QBZ5 |gamma|) (paper A58; the book's QBZ6 is no file key);
+* Dt with (1 + QDZ3 gamma + QDZ4 gamma^2) (paper A60; the book has |gamma*|);
+* the equivalent angles of combined Mz through tan/arctan (paper A54, A55);
+* s with the unscaled FNOMIN (paper A56), and the trail t multiplied by LFZO;
+* Mz0's Fy term is Fy0 at zero camber; combined Mz uses Fy' = Gy_kappa Fy0(gamma = 0) (4.E74).
+
+Low speed (MF 6.1 / TNO, as MFeval's ``parseInputs``): for |Vcx| <= VXLOW the slip
+ratio is scaled by |Vcx|/VXLOW and the shifts SHx, SVx, SHy, SVy, SVy_kappa, the
+trail t and the residual torque Mzr by ``1 - W``, ``W = (1 + cos(pi Vcx/VXLOW))/2``;
+the slip angle is scaled by (|Vcx| + |Vsy|)/VXLOW while that sum is below VXLOW
+(Vsy = tan(alpha) Vcx).  My follows the sign of the rolling speed
+Vr = Vcx (1 + kappa) and fades as sin(pi/2 Vr/VXLOW) for |Vr| < VXLOW (locked
+wheel, standstill).  cos(alpha') = Vcx / (Vc + eps_V) (4.E6, 4.E6a).  epsilon
+guards (4.E6a): eps = 1e-6 with the sign of the guarded quantity in the
+denominators of Bx (4.E16), By (4.E26), SHy (4.E27) and SHf (K'y_alpha, 4.E39).
+E factors are limited to <= 1 (4.E14, 4.E24, 4.E44, 4.E56, 4.E64).
+
+Not done here (a simulator's or the caller's choice): clipping the inputs to
+the ``[*_RANGE]`` sections (:func:`clip_to_ranges` does it on request) and
+TNO's extra reductions of Mx and My below FZMIN.
 
 Differences of MF 5.2 (``version='5.2'``; FITTYP 5, 6, 21, 'MF_05', 'PAC2002')
 ----------------------------------------------------------------------------
@@ -316,7 +333,7 @@ def _cos_mf(b, c, e, x):
 class _Basic:
     """The shared quantities of (4.E1)-(4.E8) for one call."""
 
-    __slots__ = ("fz", "kappa", "alpha", "gamma", "vcx", "dfz", "dpi", "fz0p", "astar", "gstar",
+    __slots__ = ("fz", "kappa", "kappa_in", "alpha", "gamma", "vcx", "dfz", "dpi", "fz0p", "astar", "gstar",
                  "cos_ap", "lmux_s", "lmuy_s", "lmux_p", "lmuy_p", "red", "v52", "gx", "gy", "gz")
 
 
@@ -329,16 +346,31 @@ def _basic(c, v52, fz, kappa, alpha, gamma, pressure, speed) -> _Basic:
     gamma = np.asarray(gamma, dtype=float)
     vcx = np.abs(np.asarray(c["LONGVL"] if speed is None else speed, dtype=float))
     press = np.asarray(c["NOMPRES"] if pressure is None else pressure, dtype=float)
+    vxlow = c["VXLOW"]
+    b.kappa_in = kappa
+    if vxlow > 0:
+        # MF 6.1 low-speed model (TNO; MFeval 4.0 Solver.parseInputs): below VXLOW the slip
+        # ratio falls linearly with |Vcx|, the slip angle with (|Vcx| + |Vsy|), and the shifts,
+        # trail and residual torque with the smooth factor 1 - W, W = (1 + cos(pi Vcx/VXLOW))/2
+        low = vcx <= vxlow
+        kappa = np.where(low, kappa * np.minimum(vcx / vxlow, 1.0), kappa)
+        ssum = vcx + np.abs(np.tan(alpha) * vcx)
+        alpha = np.where(ssum < vxlow, alpha * np.minimum(ssum / vxlow, 1.0), alpha)
+        b.red = np.where(low, 0.5 * (1.0 - np.cos(np.pi * np.minimum(vcx, vxlow) / vxlow)), 1.0)
+    else:
+        b.red = 1.0
     b.fz, b.kappa, b.alpha, b.gamma, b.vcx = fz, kappa, alpha, gamma, vcx
     b.fz0p = c["FNOMIN"] * c["LFZO"]                                   # (4.E1)
     b.dfz = (fz - b.fz0p) / b.fz0p                                     # (4.E2a)
     b.dpi = 0.0 if v52 else (press - c["NOMPRES"]) / c["NOMPRES"]      # (4.E2b); 5.2: no pressure
-    b.astar = np.tan(alpha)                                            # (4.E3), Vcx >= 0
-    b.gstar = np.sin(gamma)                                            # (4.E4)
+    # alpha* = alpha and gamma* = gamma: TNO's MF-Tyre does not use the tan/sin forms of
+    # (4.E3), (4.E4) (MFeval 4.0 documentation, "Changes in the equations", 'alpha star')
+    b.astar = alpha
+    b.gstar = gamma
     # 5.2 camber per channel (MF-Tyre 5.2: gamma_x,y,z = gamma * LGAX,Y,Z)
     b.gx, b.gy, b.gz = gamma * c["LGAX"], gamma * c["LGAY"], gamma * c["LGAZ"]
     vsx = -kappa * vcx                                                 # (4.E5)
-    vsy = b.astar * vcx                                                # steady state, Vcy = Vsy
+    vsy = np.tan(alpha) * vcx                                          # (2.12), Vcy = Vsy
     vs = np.sqrt(vsx ** 2 + vsy ** 2)
     vc = np.sqrt(vcx ** 2 + vsy ** 2)
     b.cos_ap = vcx / (vc + EPSILON)                                    # (4.E6), (4.E6a)
@@ -347,12 +379,6 @@ def _basic(c, v52, fz, kappa, alpha, gamma, pressure, speed) -> _Basic:
     b.lmuy_s = c["LMUY"] / (1.0 + c["LMUV"] * vs / v0)                 # (4.E7)
     b.lmux_p = A_MU * b.lmux_s / (1.0 + (A_MU - 1.0) * b.lmux_s)       # (4.E8)
     b.lmuy_p = A_MU * b.lmuy_s / (1.0 + (A_MU - 1.0) * b.lmuy_s)       # (4.E8)
-    vxlow = c["VXLOW"]
-    if vxlow > 0:
-        # MF 6.1 low-speed reduction: 1 - W with W = (1 + cos(pi Vcx / VXLOW)) / 2 below VXLOW
-        b.red = np.where(vcx < vxlow, 0.5 * (1.0 - np.cos(np.pi * np.minimum(vcx, vxlow) / vxlow)), 1.0)
-    else:
-        b.red = 1.0
     return b
 
 
@@ -503,7 +529,8 @@ def _mz(c, b: _Basic, mzp, fy_prime, kxk, fx, fy):
     # 6.1 paper (A54), (A55): the equivalent angles through tan, = (4.E77), (4.E78) for small angles
     at_eq = np.arctan(np.sqrt(np.tan(mzp["at"]) ** 2 + kk)) * np.sign(mzp["at"])
     ar_eq = np.arctan(np.sqrt(np.tan(mzp["ar"]) ** 2 + kk)) * np.sign(mzp["ar"])
-    t = _cos_mf(mzp["bt"], mzp["ct"], mzp["et"], at_eq) * mzp["dt"] * b.cos_ap * b.red  # (4.E73)
+    # (4.E73); times LFZO as TNO's solver (found by MFeval, not in the book or paper)
+    t = _cos_mf(mzp["bt"], mzp["ct"], mzp["et"], at_eq) * mzp["dt"] * b.cos_ap * c["LFZO"] * b.red
     mzr = mzp["dr"] * np.cos(mzp["cr"] * np.arctan(mzp["br"] * ar_eq)) * b.red          # (4.E75)
     g = b.gz if b.v52 else b.gamma
     # (4.E76), with Fz0 (unscaled) as the 6.1 paper (A56)
@@ -537,7 +564,15 @@ def _my(c, b: _Basic, fx, pressure):
               * (c["QSY1"] + c["QSY2"] * fx / fz0 + c["QSY3"] * np.abs(vr) + c["QSY4"] * vr ** 4
                  + (c["QSY5"] + c["QSY6"] * b.fz / fz0) * b.gamma ** 2)
               * (b.fz / fz0) ** c["QSY7"] * (press / c["NOMPRES"]) ** c["QSY8"])
-    return my * b.red
+    # rolling resistance follows the sign of the rolling speed Vr = Vcx (1 + kappa) and fades as a
+    # sine over |Vr| < VXLOW (locked wheel, standstill; MFeval 4.0 Solver.calculateMy)
+    vxlow = c["VXLOW"]
+    vr = b.vcx * (1.0 + b.kappa_in)
+    if vxlow > 0:
+        my = my * np.sin(0.5 * np.pi * np.clip(vr / vxlow, -1.0, 1.0))
+    else:
+        my = my * np.sign(vr)
+    return my
 
 
 def _prepare(p, version, fz, slip_ratio, slip_angle, camber, pressure, speed):
