@@ -67,20 +67,28 @@ TNO's extra reductions of Mx and My below FZMIN.
 
 Differences of MF 5.2 (``version='5.2'``; FITTYP 5, 6, 21, 'MF_05', 'PAC2002')
 ----------------------------------------------------------------------------
-As 6.1 except (MF-Tyre 5.2 equation manual; Project Chrono ``ChPac02Tire``):
-* no pressure terms (dpi not used) and no QSX4-QSX14, QSY5-QSY8, PKY4-PKY7,
-  PEY5, RBX3, RBY4, QDZ10-11, PPZ*;
-* camber is gamma itself scaled per channel: gamma_x = gamma*LGAX,
-  gamma_y = gamma*LGAY, gamma_z = gamma*LGAZ (LKYC/LKZC are not used);
-* Fy0: Ky_alpha = PKY1 Fz0' sin(2 arctan(Fz/(PKY2 Fz0'))) (1 - PKY3 |gamma_y|) LKY,
-  SHy = (PHY1 + PHY2 dfz) LHY + PHY3 gamma_y,
-  SVy = Fz ((PVY1 + PVY2 dfz) LVY + (PVY3 + PVY4 dfz) gamma_y) LMUY',
+As 6.1 (same low-speed model, same TNO choices) except, following the MF-Tyre
+5.2 equation manual as MFeval 4.0 evaluates FITTYP 6 (the test against MFeval
+on its 5.2 example and on Chrono's PAC2002 file agrees to 1e-14 of peak):
+
+* no pressure terms (dpi = 0; PPX*, PPY*, PPZ*, PPMX1, QSY5-QSY8 unused) and
+  no QSX4-QSX14, PKY5-PKY7, PEY5, RBX3, RBY4, QDZ10-11 (absent from 5.2 files);
+* camber enters as gamma * LGAX / LGAY / LGAZ (the 5.2 camber scaling factors,
+  default 1) instead of through LKYC / LKZC;
+* Fy0: K_y_alpha = PKY1 Fz0' sin(PKY4 arctan(Fz/(PKY2 Fz0'))) (1 - PKY3 |gamma_y|) LKY
+  with PKY4 = 2 when the file does not give it; SHy = (PHY1 + PHY2 dfz) LHY + PHY3 gamma_y;
+  SVy = Fz ((PVY1 + PVY2 dfz) LVY + (PVY3 + PVY4 dfz) gamma_y) LMUY';
   Ey = (PEY1 + PEY2 dfz)(1 - (PEY3 + PEY4 gamma_y) sgn(alpha_y)) LEY;
-* Mz: Bt (1 + QBZ4 gamma_z + QBZ5 |gamma_z|), Dt (1 + QDZ3 gamma_z + QDZ4 gamma_z^2),
-  Dr = Fz R0 ((QDZ6 + QDZ7 dfz) LRES + (QDZ8 + QDZ9 dfz) gamma_z) LMUY cos(alpha),
-  Mz' = -t (Fy - SVy_kappa) in combined slip;
-* Mx = R0 Fz (QSX1 - QSX2 gamma + QSX3 Fy/Fz0) LMX;
+* Mz: Dr = Fz R0 ((QDZ6 + QDZ7 dfz) LRES + (QDZ8 + QDZ9 dfz) gamma_z) LMUY cos(alpha);
+  Mz' = -t (Fy - SVy_kappa) in combined slip, SVy_kappa with the zero-camber mu_y;
+* Mx = R0 Fz (QSX1 LVMX - QSX2 gamma + QSX3 Fy/Fz0) LMX;
 * My = -R0 Fz (QSY1 + QSY2 Fx/Fz0 + QSY3 |Vcx/V0| + QSY4 (Vcx/V0)^4) LMY.
+
+Project Chrono's ``ChPac02Tire`` evaluates PAC2002 files differently in places
+(it scales K_y by LMUY, adds 0.1 N to the B denominators, clamps B*x to
++-(pi/2 - 0.01), uses (1 + PDY3 gamma^2) and combines by a friction ellipse
+unless told otherwise); those are Chrono's choices, not the 5.2 manual's, and
+are not followed here.
 
 Out of scope
 ------------
@@ -412,7 +420,8 @@ def _fy0_parts(c, b: _Basic, zero_camber: bool = False):
     if b.v52:
         gy = 0.0 * b.gy if zero_camber else b.gy
         muy = (c["PDY1"] + c["PDY2"] * dfz) * (1.0 - c["PDY3"] * gy ** 2) * b.lmuy_s
-        kya = (c["PKY1"] * fz0p * np.sin(2.0 * np.arctan(fz / (c["PKY2"] * fz0p)))
+        # MF 5.2 manual: PKY4 = 2 unless the file gives it (see _prepare)
+        kya = (c["PKY1"] * fz0p * np.sin(c["PKY4"] * np.arctan(fz / (c["PKY2"] * fz0p)))
                * (1.0 - c["PKY3"] * np.abs(gy)) * c["LKY"])
         shy = (c["PHY1"] + c["PHY2"] * dfz) * c["LHY"] + c["PHY3"] * gy
         svy = fz * ((c["PVY1"] + c["PVY2"] * dfz) * c["LVY"] + (c["PVY3"] + c["PVY4"] * dfz) * gy) * b.lmuy_p
@@ -578,6 +587,8 @@ def _my(c, b: _Basic, fx, pressure):
 def _prepare(p, version, fz, slip_ratio, slip_angle, camber, pressure, speed):
     v = resolve_version(p, version)
     c = coefficients(p)
+    if v == "5.2" and not any(str(k).upper() == "PKY4" for k in p):
+        c["PKY4"] = 2.0          # MF 5.2 has sin(2 arctan(...)) in K_y_alpha; PKY4 arrived with 6.x
     return c, _basic(c, v == "5.2", fz, slip_ratio, slip_angle, camber, pressure, speed)
 
 
@@ -649,7 +660,10 @@ def forces(p: Mapping, fz, slip_ratio=0.0, slip_angle=0.0, camber=0.0, pressure=
     fy = gyk * fyp["fy0"] + svyk                                                       # (4.E58)
     mzp = _mz_parts(c, b, fyp)
     if b.v52:
-        fy_prime = fy - svyk
+        # MF 5.2 manual: Mz' = -t (Fy - SVy_kappa), SVy_kappa taken with the zero-camber mu_y
+        # (as MFeval 4.0 does for FITTYP 6)
+        _, svyk0 = _gyk(c, b, _fy0_parts(c, b, zero_camber=True)["muy"])
+        fy_prime = fy - svyk0
     else:
         fy_prime = gyk * _fy0_parts(c, b, zero_camber=True)["fy0"]                     # (4.E74)
     mz, _, _ = _mz(c, b, mzp, fy_prime, kxk, fx, fy)
