@@ -144,3 +144,74 @@ def test_levels_and_labels():
     assert format_condition("camber", math.radians(-0.000451)) == "camber 0.0°"
     assert format_condition("pressure", 83450.0) == "pressure 83 kPa"
     assert format_condition("speed", 40 / 3.6) == "speed 40 km/h"
+
+
+# ------------------------------------------------------------------------------ CLI: --by, noise floor, warnings
+@pytest.fixture(scope="module")
+def fsae45_file(tmp_path_factory):
+    from tyrefit.synthetic.ttc import format_ttc, make_record
+
+    rec, _ = make_record(seed=7, rate=10.0, programme=PROGRAMME)
+    p = tmp_path_factory.mktemp("fsae") / "fsae45.dat"
+    p.write_text(format_ttc(rec))
+    return p
+
+
+def test_fit_by_pressure_writes_one_tyre_per_level_and_beats_the_merged_fit(fsae45_file, tmp_path, capsys):
+    from tyrefit.cli import main
+    from tyrefit.io.tir import read_tyre
+
+    assert main(["fit", str(fsae45_file), "--convention", "sae", "--out", str(tmp_path / "m.tir")]) == 0
+    merged_out = capsys.readouterr().out
+    assert "merged: 3 pressure levels (70, 84, 98 kPa) fitted as one tyre" in merged_out
+    merged_rmse = float(re.search(r"lateral RMSE ([\d.]+) N", merged_out).group(1))
+    assert main(["fit", str(fsae45_file), "--convention", "sae", "--out", str(tmp_path / "t.tir"),
+                 "--by", "pressure", "--report", str(tmp_path / "rep")]) == 0
+    out = capsys.readouterr().out
+    table = pd.read_csv(tmp_path / "t_by_pressure.csv")
+    assert list(table["level"]) == ["pressure 70 kPa", "pressure 84 kPa", "pressure 98 kPa"]
+    assert list(table["sweeps"]) == [15, 15, 15]
+    # the synthetic tyre's grip and stiffness change with pressure: one tyre per level fits better
+    assert (table["RMSE [N]"] < 0.85 * merged_rmse).all()
+    for f in table["file"]:
+        t = read_tyre(tmp_path / f)
+        assert any("one tyre per pressure level" in h for h in t.header)
+        assert (tmp_path / "rep" / f.split("_", 1)[1].removesuffix(".tir") / "index.html").exists()
+    assert "merged:" not in out
+
+
+def test_fit_by_a_single_level_is_a_clear_error(fsae45_file, tmp_path, capsys):
+    from tyrefit.cli import main
+
+    assert main(["fit", str(fsae45_file), "--convention", "sae", "--out", str(tmp_path / "t.tir"),
+                 "--by", "speed"]) == 2
+    err = capsys.readouterr().err
+    assert "one speed level (speed 40 km/h)" in err and "Traceback" not in err
+    assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.slow
+def test_fit_and_diagnose_report_the_same_noise_floor(fsae45_file, tmp_path, capsys):
+    import json
+
+    from tyrefit.cli import main
+
+    assert main(["diagnose", str(fsae45_file), "--convention", "sae", "--json", str(tmp_path / "d.json")]) == 0
+    dg = json.load(open(tmp_path / "d.json"))["noise_floor"]
+    capsys.readouterr()
+    assert main(["fit", str(fsae45_file), "--convention", "sae", "--out", str(tmp_path / "t.tir")]) == 0
+    out = capsys.readouterr().out
+    shown = float(re.search(r"lateral RMSE [\d.]+ N \(R² [\d.]+, noise floor ([\d.]+) N\)", out).group(1))
+    assert shown == pytest.approx(dg, rel=0.005)  # printed to 3 significant digits
+
+
+def test_fit_noise_floor_is_diagnose_definition(fsae45):
+    """The number itself, without printing: fit's floor equals diagnose's function on diagnose's sampling."""
+    from tyrefit.diagnose.data import prepare
+    from tyrefit.diagnose.stats import noise_floor
+
+    df, _, res = fsae45
+    sd = prepare(df[["run", "fz", "fy", "slip_angle", "camber", "pressure", "speed"]])
+    want, _ = noise_floor(sd.inputs.slip_angle, sd.fy, sd.sweep, fz=sd.inputs.fz)
+    assert res.stats["lateral"]["noise_floor"] == pytest.approx(want, rel=1e-9)
+    assert res.stats["lateral"]["point_scatter"] != pytest.approx(want, rel=1e-3)  # the other estimate, named apart

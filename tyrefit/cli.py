@@ -53,6 +53,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rig", metavar="RIG.json", help="displacement-to-slip calibration from 'tyrefit rig calibrate'")
     p.add_argument("--vertical", metavar="VERTICAL.csv", help="vertical-stiffness test (VERTICAL_STIFFNESS in the .tir)")
     p.add_argument("--effects", metavar="E1,E2", help="fit the diagnose start model plus these effects")
+    p.add_argument("--by", choices=("pressure", "camber", "speed"),
+                   help="one tyre per level of this condition (TYRE_<level>.tir) and a summary table")
     p.add_argument("--rated-load", type=float, metavar="NEWTONS", help="rated load for the 'overload' effect [N]")
     p.add_argument("--cost", choices=("l1", "l2"), default="l2",
                    help="l1: sum of absolute errors (Komana et al. Eq. 5); l2: ordinary least squares (default)")

@@ -13,6 +13,7 @@ the latter and the report shows both.
 from __future__ import annotations
 
 import inspect
+import math
 import warnings
 from pathlib import Path
 
@@ -78,9 +79,10 @@ def _tyre_info(sfi, args, data_path) -> dict:
     return info
 
 
-def fit_file(args):
+def fit_file(args, ds=None):
     """Do the work of ``tyrefit fit`` (without writing); returns (result, extras).
 
+    ``ds``: the data already read (a subset for ``--by``); default: read ``args.data``.
     ``extras``: ``static`` (StaticFitInput or None), ``start`` (FitResult of the
     start model when ``--effects``), ``effects`` (ids), ``notes``.
     """
@@ -88,7 +90,8 @@ def fit_file(args):
     from ..io.readers import check_fittable
 
     notes: list[str] = []
-    ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
+    if ds is None:
+        ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
     sfi = None
     if ds.kind == "static":
         sfi = _static_input(ds, args, notes)
@@ -112,6 +115,12 @@ def fit_file(args):
         vary0, _ = resolve([])
         vary1, enotes = resolve(effects)
         notes += list(enotes)
+        # the effects choose lateral coefficients only: the longitudinal and aligning parts keep their full
+        # fit (every coefficient the data identify), never silent zeros
+        from ..models.pac89 import ALL
+
+        other = [k for k in ALL if k[0] in "bc"]
+        vary0, vary1 = list(vary0) + other, list(vary1) + other
         extras["start"] = fit_pac89(data, cost=args.cost, vary=vary0, tyre_info=info, fixed=fixed)
         extras["effects"] = effects
         # the effects' model starts from the start model's solution
@@ -119,6 +128,12 @@ def fit_file(args):
                            initial={k: v for k, v in extras["start"].values.items() if k.startswith("a")})
         result.notes.append(f"effects {', '.join(effects)}: start-model RMSE {extras['start'].rmse:.4g} N -> "
                             f"{result.rmse:.4g} N with the effects")
+        carried, dropped = _effects_split(effects)
+        result.model_label = "PAC89" + (" + " + ", ".join(carried) if carried else " start model")
+        for eid, why in dropped:
+            result.warnings.append(f"effect {eid} requested but NOT in the model: {why}")
+            result.tyre.header.append(f"WARNING: effect {eid} requested but NOT in the model: {why}")
+        extras["effects_carried"], extras["effects_dropped"] = carried, [e for e, _ in dropped]
     else:
         result = fit_pac89(data, cost=args.cost, tyre_info=info, fixed=fixed)
     if sfi is not None and hasattr(sfi, "apply_to"):
@@ -127,13 +142,31 @@ def fit_file(args):
     return result, extras
 
 
-def _report(result, extras, args, out: Path) -> None:
+def _effects_split(effects):
+    """(effects PAC89 carries, [(effect, why) it cannot carry]) from the effects catalogue."""
+    from ..effects import EFFECTS
+
+    carried, dropped = [], []
+    for e in effects:
+        eff = EFFECTS.get(e)
+        if eff is None or eff.representable or eff.pac89 or eff.pac89_approx:
+            carried.append(e + ("" if eff is None or eff.representable else " (approximated)"))
+        else:
+            dropped.append((e, eff.pac89_note))
+    return carried, dropped
+
+
+def _report(result, extras, args, out: Path, rdir: Path | None = None, title: str | None = None) -> None:
     from ..io.report import Report
 
-    rdir = Path(args.report)
-    r = Report(f"PAC89 fit — {Path(args.data).name}",
-               f"tyrefit fit {args.data} → {out.name}" + (f" (effects: {', '.join(extras['effects'])})"
-                                                          if extras["effects"] else ""))
+    rdir = Path(rdir or args.report)
+    sub = f"tyrefit fit {args.data} → {out.name}"
+    if extras["effects"]:
+        sub += f" (effects in the model: {', '.join(extras.get('effects_carried') or []) or 'none'}"
+        if extras.get("effects_dropped"):
+            sub += f"; requested but not representable in PAC89, so not in the tyre: {', '.join(extras['effects_dropped'])}"
+        sub += ")"
+    r = Report(title or f"PAC89 fit — {Path(args.data).name}", sub)
     try:
         import os
 
@@ -168,7 +201,7 @@ def _report(result, extras, args, out: Path) -> None:
     rdir.mkdir(parents=True, exist_ok=True)
     from ..io.outputs import write_text
 
-    write_text(rdir / "sweeps.csv", result.sweeps.to_csv(index=False), force=True)
+    write_text(rdir / "sweeps.csv", result.sweeps_table().to_csv(index=False), force=True)
     r.save(rdir, force=args.force)
 
 
@@ -178,6 +211,8 @@ def run(args) -> int:
     if out.suffix.lower() != ".tir":
         raise DataError(f"--out {out}: the tyre file must end in .tir")
     check_outputs(args)
+    if getattr(args, "by", None):
+        return _run_by(args, out)
     result, extras = fit_file(args)
     result.tyre.to_tir(out, force=args.force)
     if getattr(args, "json", None):
@@ -192,6 +227,7 @@ def run(args) -> int:
               f"{result.rmse:.4g} N")
     if result.not_identifiable:
         print("  not identifiable (held): " + ", ".join(result.not_identifiable))
+    _print_warnings(result)
     for n in result.notes:
         print(f"  note: {n}")
     if getattr(args, "json", None):
@@ -199,3 +235,116 @@ def run(args) -> int:
     if getattr(args, "report", None):
         print(f"wrote {Path(args.report) / 'index.html'}")
     return 0
+
+
+def _print_warnings(result) -> None:
+    for c, lv in result.merged.items():
+        print(f"  merged: {_merged_line(c, lv)}")
+    merged = {f"{c}: not in the model" for c in result.merged}
+    for w in result.warnings:
+        if not any(w.startswith(m) for m in merged):
+            print(f"  WARNING: {w}")
+
+
+def _merged_line(channel, levels) -> str:
+    from ..io.facets import _DISPLAY, _decimals
+
+    f, unit, _ = _DISPLAY[channel]
+    d = _decimals(channel, levels)
+    return (f"{len(levels)} {channel} levels ({', '.join(f'{x * f:.{d}f}' for x in levels)}{unit}) fitted as one "
+            f"tyre (PAC89 has no {channel} input); --by {channel} writes one tyre per level")
+
+
+def _level_tag(channel: str, value: float) -> str:
+    """File-name tag of a level: 'pressure83kPa', 'camber-2.0deg', 'speed40kmh'."""
+    if channel == "pressure":
+        return f"pressure{value / 1e3:.0f}kPa"
+    if channel == "camber":
+        return f"camber{math.degrees(value):.1f}deg".replace("-0.0deg", "0.0deg")
+    return f"speed{value * 3.6:.0f}kmh"
+
+
+def _run_by(args, out: Path) -> int:
+    """``fit --by pressure|camber|speed``: one tyre per level of the condition, and a summary table."""
+    from dataclasses import replace
+
+    import pandas as pd
+
+    from ..io.facets import channel_levels, format_condition, sweep_conditions
+    from ..io.outputs import check_output, write_text
+
+    ch = args.by
+    ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
+    if ds.kind not in ("slip_angle", "slip_ratio"):
+        raise DataError(f"{ds.source}: --by {ch} splits dynamic-rig sweeps; this file is a {ds.kind} test")
+    if ch not in ds.df or not ds.df[ch].notna().any():
+        raise DataError(f"{ds.source}: --by {ch}: the data have no '{ch}' channel")
+    sc = sweep_conditions(ds.df, (ch,))
+    levels, idx = channel_levels(sc[ch].to_numpy(), ch)
+    if len(levels) < 2:
+        raise DataError(f"{ds.source}: --by {ch}: the data hold one {ch} level "
+                        f"({format_condition(ch, float(levels[0]))}); nothing to split - drop --by")
+    stem, json_path = out.with_suffix(""), getattr(args, "json", None)
+    plan = []
+    for k, lv in enumerate(levels):
+        tag = _level_tag(ch, float(lv))
+        tir = Path(f"{stem}_{tag}.tir")
+        js = Path(f"{Path(json_path).with_suffix('')}_{tag}.json") if json_path else None
+        for f in (tir, js):
+            if f is not None:
+                check_output(f, args.force)
+        runs = sc.index[idx == k]
+        plan.append((lv, tag, tir, js, runs))
+    table_path = Path(f"{stem}_by_{ch}.csv")
+    check_output(table_path, args.force)
+    fits = []
+    for lv, tag, tir, js, runs in plan:
+        sub = replace(ds, df=ds.df[ds.df["run"].isin(runs)].copy())
+        try:
+            result, extras = fit_file(args, ds=sub)
+        except DataError as e:
+            raise DataError(f"--by {ch}, level {format_condition(ch, float(lv))}: {e}") from None
+        result.tyre.header.insert(1, f"one tyre per {ch} level (tyrefit fit --by {ch}): "
+                                     f"{format_condition(ch, float(lv))}, {len(runs)} sweeps")
+        fits.append((lv, tag, tir, js, runs, result, extras))
+    rows = []
+    for lv, tag, tir, js, runs, result, extras in fits:
+        result.tyre.to_tir(tir, force=args.force)
+        if js is not None:
+            result.tyre.to_chrono_json(js, force=args.force)
+        part = result.parts[0]
+        s = result.stats[part]
+        rows.append({"level": format_condition(ch, float(lv)), f"{ch} [{_UNIT[ch][1]}]": float(lv) * _UNIT[ch][0],
+                     "sweeps": len(runs), "part": part, f"RMSE [{s['unit']}]": s["rmse"],
+                     f"noise floor [{s['unit']}]": s["noise_floor"],
+                     "RMSE / floor": s["rmse"] / s["noise_floor"] if s["noise_floor"] > 0 else float("nan"),
+                     "warnings": len([w for w in result.warnings if "not in the model" not in w]),
+                     "file": tir.name})
+    table = pd.DataFrame(rows)
+    write_text(table_path, table.to_csv(index=False), force=True)
+    if getattr(args, "report", None):
+        from ..io.report import Report
+
+        rdir = Path(args.report)
+        r = Report(f"PAC89 fit per {ch} level — {Path(args.data).name}",
+                   f"tyrefit fit {args.data} --by {ch}: one tyre per {ch} level")
+        r.table(table, digits=4)
+        for lv, tag, tir, js, runs, result, extras in fits:
+            _report(result, extras, args, tir, rdir=rdir / tag,
+                    title=f"PAC89 fit — {Path(args.data).name}, {format_condition(ch, float(lv))}")
+            r.link(f"{tag}/index.html", f"report of {format_condition(ch, float(lv))}")
+        r.save(rdir, force=args.force)
+    print(f"fit --by {ch}: {len(fits)} tyres from {Path(args.data).name}")
+    print(table.drop(columns=[f"{ch} [{_UNIT[ch][1]}]"]).to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    for lv, tag, tir, js, runs, result, extras in fits:
+        print(f"wrote {tir}" + (f" and {js}" if js else ""))
+        for w in result.warnings:
+            if "not in the model" not in w:
+                print(f"  WARNING ({format_condition(ch, float(lv))}): {w}")
+    print(f"wrote {table_path}")
+    if getattr(args, "report", None):
+        print(f"wrote {Path(args.report) / 'index.html'}")
+    return 0
+
+
+_UNIT = {"pressure": (1e-3, "kPa"), "camber": (180 / math.pi, "deg"), "speed": (3.6, "km/h")}
