@@ -144,8 +144,9 @@ def fit_file(args, ds=None):
 
 def _effects_split(effects):
     """(effects PAC89 carries, [(effect, why) it cannot carry]) from the effects catalogue."""
-    from ..effects import EFFECTS
+    import importlib
 
+    EFFECTS = getattr(importlib.import_module("tyrefit.effects"), "EFFECTS", {})
     carried, dropped = [], []
     for e in effects:
         eff = EFFECTS.get(e)
