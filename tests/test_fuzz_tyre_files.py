@@ -70,8 +70,10 @@ def _read_tir_all(path) -> None:
         if isinstance(r, Pac89Tyre):
             assert set(r.coefficients) == set(pac89.ALL)
             assert all(isinstance(v, float) for v in r.coefficients.values())
+        elif hasattr(r, "params"):  # an MF tyre: its checks must not raise either
+            _ = r.missing, r.check(n=5), r.warnings(n=5), r.validity()
         else:
-            _ = r.format, r.n_parameters  # properties must not raise either
+            _ = r.format, r.family, r.n_parameters  # properties must not raise either
 
 
 def _read_json(path) -> None:

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ..errors import FormatError
+from ..errors import FormatError, ModelError
 from ..io.outputs import check_output, write_text
 from ..io.readers import (KINDS, Dataset, condition_levels, lateral_slope, read_data,
                           sniff_format)
@@ -84,14 +84,45 @@ def _dimensions(pf) -> dict[str, float]:
     return dims
 
 
+#: said of every PAC89 tyre (Chrono's ChPac89Tire limits; see :class:`tyrefit.tyres.pac89.Pac89Tyre`)
+CHRONO_NOTE = ("Chrono's ChPac89Tire clamps camber to +/-3 deg (default m_gamma_limit) and slip ratio to +/-1, and "
+               "adds Fx*Fy/k_lat to Mz (ChPac89Tire.cpp, Advance); tyrefit evaluates PAC89 without those limits, so "
+               "the two agree only inside them and where Fx*Fy/k_lat is small")
+
+
+def _tyre_model(tyre) -> dict[str, Any]:
+    """Family, completeness and checks of a read :class:`~tyrefit.tyres.base.Tyre`."""
+    out: dict[str, Any] = {"family": tyre.family}
+    out["missing"] = list(getattr(tyre, "missing", []) or [])
+    out["parts"] = [p for p, ok in (("longitudinal", tyre.has_longitudinal), ("lateral", tyre.has_lateral),
+                                    ("aligning", tyre.has_aligning)) if ok]
+    out["nominal"] = tyre.nominal
+    out["validity"] = {k: list(v) for k, v in tyre.validity().items()}
+    out["declared_ranges"] = sorted(getattr(tyre, "ranges", {}) or {})
+    out["problems"] = tyre.check() if not out["missing"] else [f"required coefficient {k} is missing"
+                                                               for k in out["missing"]]
+    out["warnings"] = tyre.warnings() if not out["missing"] else []
+    out["combined_slip"] = bool(tyre.combined)
+    if tyre.family == "PAC89":
+        out["chrono_limits"] = CHRONO_NOTE
+    return out
+
+
 def inspect_tyre(p: Path, fmt: str | None = None) -> dict[str, Any]:
     """Summary dict of a tyre property file (``.tir``) or a Chrono tyre ``.json``.
 
+    ``format`` is as the file declares it (``PROPERTY_FILE_FORMAT``, or
+    ``FITTYP``); ``family`` is the model tyrefit evaluates it as ('PAC89',
+    'MF52', 'MF61'); ``missing`` lists required coefficients the file does not
+    give, ``problems`` what :meth:`~tyrefit.tyres.base.Tyre.check` finds over
+    the declared range and ``warnings`` what is questionable but evaluable.
     ``parameters`` counts the model coefficients: numeric entries of the
     ``[*_COEFFICIENTS]`` sections other than ``[SCALING_COEFFICIENTS]`` (43 for a
     full PAC89 file: a0-a13, b0-b10, c0-c17); ``values`` counts every numeric
     entry of the file.
     """
+    from ..io.tir import read_tyre
+
     fmt = fmt or sniff_format(p)
     if fmt == "tir":
         from ..io.tir import read_property_file
@@ -106,16 +137,17 @@ def inspect_tyre(p: Path, fmt: str | None = None) -> dict[str, Any]:
         units = pf.sections.get("UNITS", {})
         if units:
             out["units"] = {k.lower(): str(v) for k, v in units.items()}
-        fnomin = pf.get("FNOMIN")
-        if isinstance(fnomin, (int, float)):
-            out["fnomin"] = float(fnomin) * pf.unit_factor("FORCE")
+        fnomin = pf.number("FNOMIN")
+        if fnomin is not None:
+            out["fnomin"] = fnomin * pf.unit_factor("FORCE")
         name = pf.get("NAME") or pf.get("TYRESIDE")
         if name is not None:
             out["name"] = str(name)
+        out.update(_tyre_model(read_tyre(p)))
         return out
     from ..io.chrono_json import read_chrono_json
 
-    text = p.read_text(encoding="utf-8", errors="replace")
+    text = p.read_text(encoding="utf-8-sig", errors="replace")
     template = None
     for line in text.splitlines():
         if '"Template"' in line:
@@ -127,12 +159,13 @@ def inspect_tyre(p: Path, fmt: str | None = None) -> dict[str, Any]:
     out = {"kind": "tyre", "file": str(p), "container": "chrono_json", "format": declared,
            "template": template, "parameters": len(tyre.coefficients), "name": tyre.name,
            "dimensions": dims}
-    for key in ("vertical_stiffness", "lateral_stiffness", "rolling_resistance"):
+    for key in ("vertical_stiffness", "lateral_stiffness", "rolling_resistance", "vertical_damping", "mass"):
         v = getattr(tyre, key)
         if v is not None:
             out[key] = v
     if tyre.vertical_curve:
         out["vertical_curve_points"] = len(tyre.vertical_curve)
+    out.update(_tyre_model(tyre))
     return out
 
 
@@ -163,13 +196,24 @@ def format_summary(s: dict[str, Any]) -> str:
     lines = []
     if s["kind"] == "tyre":
         lines.append(f"{s['file']}: tyre property file ({s['container']}), format {s['format']}, "
-                     f"{s['parameters']} model parameters")
+                     f"{s['parameters']} model parameters; family {s.get('family', '?')}")
+        if s.get("parts"):
+            lines.append("model parts: " + ", ".join(s["parts"]) + (" (combined slip)" if s.get("combined_slip")
+                                                                     else " (pure slip only)"))
         if s.get("sections"):
             lines.append("sections: " + ", ".join(s["sections"]))
         d = s.get("dimensions", {})
         if d:
             lines.append("dimensions: " + ", ".join(
                 f"{k} {v:.4g}" if k == "aspect_ratio" else f"{k} {v * 1e3:.4g} mm" for k, v in d.items()))
+        if s.get("missing"):
+            lines.append("MISSING: " + ", ".join(s["missing"]))
+        for prob in s.get("problems", []):
+            lines.append(f"problem: {prob}")
+        for w in s.get("warnings", []):
+            lines.append(f"warning: {w}")
+        if s.get("chrono_limits"):
+            lines.append(f"note: {s['chrono_limits']}")
         return "\n".join(lines)
     fmt = {"csv": "CSV", "tdx": "TYDEX", "ttc": "FSAE TTC"}.get(s.get("format"), s.get("format"))
     conv = s["convention"]
@@ -217,6 +261,9 @@ def run(args) -> int:
             raise FormatError(f"{out}: the --json output is the file being inspected; choose another name")
     summary = inspect_file(args.file, convention=getattr(args, "convention", "iso"))
     print(format_summary(summary))
+    if summary.get("kind") == "tyre" and summary.get("missing"):
+        raise ModelError(f"{args.file}: incomplete {summary['family']} tyre: missing "
+                         + ", ".join(summary["missing"]))
     if out:
         write_text(out, json.dumps(_jsonable(summary), indent=2) + "\n", force=args.force)
     return 0

@@ -63,7 +63,7 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
     except OSError as exc:
         raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
     try:
-        doc = json.loads(_strip_comments(raw.decode("utf-8")))
+        doc = json.loads(_strip_comments(raw.decode("utf-8-sig")))
     except (ValueError, RecursionError) as exc:  # bad UTF-8, bad JSON, >4300-digit integers, deep nesting
         raise FormatError(f"{p}: not a Chrono tyre JSON file ({exc.__class__.__name__}: "
                           f"{(str(exc).splitlines() or [''])[0][:80]})") from None

@@ -22,18 +22,18 @@ from pathlib import Path
 
 from ..errors import FormatError
 from ..models import pac89
-from ..tyres.pac89 import Pac89Tyre
+from ..tyres.base import Tyre
+from ..tyres.mf import MFTyre
+from ..tyres.pac89 import REQUIRED, Pac89Tyre
 from .outputs import write_text
 
-__all__ = ["PropertyFile", "read_property_file", "read_tir", "read_tyre", "write_tir", "format_tir"]
+__all__ = ["PropertyFile", "read_property_file", "read_tir", "read_tyre", "write_tir", "format_tir",
+           "pac89_from_property_file", "mf_from_property_file"]
 
-_SECTION = re.compile(r"^\[\s*([A-Za-z0-9_]+)\s*\]")
-_KEYVAL = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(.*)$")
-#: section rulers such as ``$-----------units`` or ``!=====``: layout, not comments
-_SEPARATOR = re.compile(r"^[$!]\s*[-=_]{4,}\s*[A-Za-z_ ]*$")
 #: characters str.splitlines() breaks lines at, and other control characters (NUL marks a binary file)
 _LINE_BREAKS = re.compile("[\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029]+")
 _CONTROL = re.compile("[\x00-\x08\x0e-\x1f\x7f]")
+_INT = re.compile(r"[+-]?[0-9]+")
 
 _LENGTH = {"meter": 1.0, "meters": 1.0, "m": 1.0, "metre": 1.0, "mm": 1e-3, "millimeter": 1e-3,
            "millimetre": 1e-3, "cm": 1e-2, "inch": 0.0254, "in": 0.0254, "ft": 0.3048, "foot": 0.3048}
@@ -41,26 +41,90 @@ _FORCE = {"newton": 1.0, "n": 1.0, "kn": 1e3, "kilonewton": 1e3, "lbf": 4.448221
           "pound_force": 4.4482216152605, "kgf": 9.80665}
 _ANGLE = {"radian": 1.0, "radians": 1.0, "rad": 1.0, "degree": math.pi / 180, "degrees": math.pi / 180,
           "deg": math.pi / 180}
+_PRESSURE = {"pascal": 1.0, "pa": 1.0, "kpa": 1e3, "kilopascal": 1e3, "mpa": 1e6, "bar": 1e5, "psi": 6894.757293168,
+             "n/m2": 1.0, "n/mm2": 1e6}
+_TIME = {"second": 1.0, "seconds": 1.0, "sec": 1.0, "s": 1.0, "millisecond": 1e-3, "ms": 1e-3}
+_MASS = {"kg": 1.0, "kilogram": 1.0, "gram": 1e-3, "g": 1e-3, "tonne": 1e3, "lbm": 0.45359237, "pound_mass": 0.45359237}
+_UNIT_TABLES = {"LENGTH": _LENGTH, "FORCE": _FORCE, "ANGLE": _ANGLE, "PRESSURE": _PRESSURE, "TIME": _TIME,
+                "MASS": _MASS}
+
+#: PROPERTY_FILE_FORMAT / FITTYP -> model family (Adams/MF-Tyre conventions: FITTYP 5, 6 and 21 are MF 5.x,
+#: 61 and 62 are MF 6.1 and 6.2; MF 6.2 is evaluated as 6.1, turn slip being out of scope)
+_FORMAT_FAMILY = {"PAC89": "PAC89", "MF_05": "MF52", "MF05": "MF52", "PAC2002": "MF52", "PAC_2002": "MF52",
+                  "MF5.2": "MF52", "MF52": "MF52", "MF_52": "MF52", "MF_5.2": "MF52", "PAC_MF52": "MF52",
+                  "MF61": "MF61", "MF_61": "MF61", "MF6.1": "MF61", "MF_6.1": "MF61", "MF62": "MF61",
+                  "MF_62": "MF61", "MF6.2": "MF61", "MF_6.2": "MF61", "PAC_MF61": "MF61", "MF_06": "MF61"}
+_FITTYP_FAMILY = {5: "MF52", 6: "MF52", 21: "MF52", 61: "MF61", 62: "MF61"}
+#: sections whose entries must all be numbers (an empty or text value there is an error naming the line)
+_NUMERIC_SECTION_SUFFIXES = ("_COEFFICIENTS", "_RANGE")
+_NUMERIC_SECTIONS = {"DIMENSION", "VERTICAL", "OPERATING_CONDITIONS", "TIRE_CONDITIONS", "STRUCTURAL",
+                     "CONTACT_PATCH", "PARAMETER", "INERTIA"}
 
 
 @dataclass
 class PropertyFile:
-    """A parsed property file: ordered sections of key -> value, tables, comments."""
+    """A parsed property file: ordered sections of key -> value, tables, comments.
+
+    ``lines`` gives the file line of each ``(SECTION, KEY)``; a key written
+    with no value (``a1 =``) is kept as ``None`` so that the model reader can
+    name its line when a number is required.
+    """
 
     path: str
     sections: dict[str, dict[str, object]] = field(default_factory=dict)
     tables: dict[str, dict[str, object]] = field(default_factory=dict)
     comments: list[str] = field(default_factory=list)
+    lines: dict[tuple[str, str], int] = field(default_factory=dict)
 
     @property
     def format(self) -> str:
-        """``PROPERTY_FILE_FORMAT`` as the file declares it (upper case), or ''."""
+        """``PROPERTY_FILE_FORMAT`` as the file declares it (upper case), or ''.
+
+        Without one, ``FITTYP`` 61 / 62 read as 'MF61' / 'MF62' and other values
+        as 'FITTYP n'; :attr:`family` says what the model is.
+        """
         v = self.get("PROPERTY_FILE_FORMAT", section="MODEL")
+        if v is None or str(v).strip() == "" or str(v).strip().upper() == "USER":
+            f = self.fittyp
+            if f is not None:
+                return {61: "MF61", 62: "MF62"}.get(f, f"FITTYP {f}")
+        return str(v).strip().upper() if v is not None else ""
+
+    @property
+    def fittyp(self) -> int | None:
+        v = self.get("FITTYP", section="MODEL")
         if v is None:
-            v = self.get("FITTYP", section="MODEL")
-            if v is not None:  # MF 6.x files often give only FITTYP (61, 62)
-                return {"61": "MF61", "62": "MF62", "6": "MF6"}.get(str(v).split(".")[0], f"FITTYP {v}")
-        return str(v).upper() if v is not None else ""
+            v = self.get("FITTYP")
+        try:
+            return int(float(v)) if v is not None and str(v).strip() != "" else None
+        except (TypeError, ValueError, OverflowError):
+            return None
+
+    @property
+    def family(self) -> str:
+        """'PAC89', 'MF52' or 'MF61' (MF 6.2 files read as 'MF61'), or '' when the file does not say.
+
+        ``FITTYP`` decides when given (5, 6, 21: MF 5.2; 61, 62: MF 6.1/6.2),
+        else ``PROPERTY_FILE_FORMAT``.  A file that declares neither is told
+        by its keys: ``a0..a13`` PAC89; MF 6.1-only keys (``NOMPRES``,
+        ``PKY4``, ``PPY1``) MF 6.1; ``PCY1``/``PCX1`` MF 5.2.
+        """
+        declared = str(self.get("PROPERTY_FILE_FORMAT", section="MODEL") or "").strip().upper()
+        if declared == "PAC89":
+            return "PAC89"
+        f = self.fittyp
+        if f in _FITTYP_FAMILY:
+            return _FITTYP_FAMILY[f]
+        if declared in _FORMAT_FAMILY:
+            return _FORMAT_FAMILY[declared]
+        if f is None and declared in ("", "USER"):
+            if self.get("A0") is not None or self.get("A3") is not None:
+                return "PAC89"
+            if any(self.get(k) is not None for k in ("NOMPRES", "PKY4", "PPY1", "PPX1")):
+                return "MF61"
+            if self.get("PCY1") is not None or self.get("PCX1") is not None:
+                return "MF52"
+        return ""
 
     def get(self, key: str, section: str | None = None, default=None):
         key = key.upper()
@@ -71,14 +135,47 @@ class PropertyFile:
                 return sec[key]
         return default
 
+    def where(self, key: str, section: str | None = None) -> str:
+        """'path:line' of ``key`` (first section holding it unless ``section``)."""
+        key = key.upper()
+        for sec, entries in self.sections.items():
+            if (section is None or sec == section.upper()) and key in entries:
+                return f"{self.path}:{self.lines.get((sec, key), '?')}"
+        return self.path
+
+    def number(self, key: str, section: str | None = None, factor: float = 1.0) -> float | None:
+        """``key`` as a finite float times ``factor``; None when absent.
+
+        Raises
+        ------
+        FormatError
+            present but empty, not a number or not finite (naming the line).
+        """
+        key = key.upper()
+        sec = section
+        if sec is None:
+            sec = next((s for s, e in self.sections.items() if key in e), None)
+            if sec is None:
+                return None
+        entries = self.sections.get(sec.upper(), {})
+        if key not in entries:
+            return None
+        v = entries[key]
+        where = self.where(key, sec)
+        if v is None:
+            raise FormatError(f"{where}: {key} has no value; a number is required")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise FormatError(f"{where}: {key} = {str(v)[:40]!r} is not a finite number")
+        return float(v) * factor
+
     def unit_factor(self, kind: str) -> float:
-        table = {"LENGTH": _LENGTH, "FORCE": _FORCE, "ANGLE": _ANGLE}[kind]
-        name = str(self.get(kind, section="UNITS", default="")).strip().lower()
+        table = _UNIT_TABLES[kind]
+        name = str(self.get(kind, section="UNITS", default="") or "").strip().lower()
         if not name:
             return 1.0
         if name not in table:
-            raise FormatError(f"{self.path}: [UNITS] {kind} = {name!r} is not understood; accepted: "
-                              + ", ".join(sorted(table)))
+            raise FormatError(f"{self.where(kind, 'UNITS')}: [UNITS] {kind} = {name[:40]!r} is not understood; "
+                              "accepted: " + ", ".join(sorted(table)))
         return table[name]
 
     @property
@@ -87,7 +184,10 @@ class PropertyFile:
 
 
 def _strip_comment(line: str) -> str:
-    """Drop ``$`` / ``!`` comments outside quotes."""
+    """Drop ``$`` / ``!`` comments outside quotes (linear in the line length)."""
+    if "'" not in line and '"' not in line:
+        cut = min((i for i in (line.find("$"), line.find("!")) if i >= 0), default=-1)
+        return (line if cut < 0 else line[:cut]).strip()
     out, quote = [], None
     for ch in line:
         if quote:
@@ -104,12 +204,29 @@ def _strip_comment(line: str) -> str:
     return "".join(out).strip()
 
 
+def _is_separator(s: str) -> bool:
+    """A section ruler such as ``$-----------units`` or ``!=====``: layout, not a comment."""
+    body = s[1:].lstrip()
+    rest = body.lstrip("-=_")
+    if len(body) - len(rest) < 4:
+        return False
+    rest = rest.strip()
+    return not rest or all(ch.isalpha() or ch in "_ " for ch in rest)
+
+
+def _is_key(k: str) -> bool:
+    return bool(k) and k.isascii() and (k[0].isalpha() or k[0] == "_") and k.replace("_", "a").isalnum()
+
+
 def _value(text: str):
+    """A value as written: quoted text, int, float (Fortran ``D`` exponents too), None when empty, else text."""
     text = text.strip()
+    if not text:
+        return None
     if len(text) >= 2 and text[0] == text[-1] and text[0] in "'\"":
         return text[1:-1]
     try:
-        if re.fullmatch(r"[+-]?\d+", text):
+        if len(text) < 400 and _INT.fullmatch(text):
             v = int(text)
             float(v)  # an integer beyond float range is not a usable number: keep the text
             return v
@@ -118,19 +235,38 @@ def _value(text: str):
         return text
 
 
+def _numbers(s: str) -> list[float] | None:
+    """A table row of numbers (whitespace or comma separated), or None."""
+    try:
+        return [float(x.replace("D", "E").replace("d", "e")) for x in s.replace(",", " ").split()]
+    except ValueError:
+        return None
+
+
 def read_property_file(path: str | os.PathLike) -> PropertyFile:
     """Read a ``.tir`` property file of any MF / PAC flavour.
+
+    Reads what vendors ship: ``[SECTION]`` headers, ``KEY = value`` lines
+    (comments after values, empty values kept as None), ``{col col}`` curve
+    tables and keyless tables (rows of numbers such as ``[SHAPE]``'s
+    ``1.00 0.00``), vendor sections, ``$``/``!`` comments, LF or CRLF, a UTF-8
+    byte-order mark.  No regular expression with nested repetition is applied
+    to a line: the parser is linear in the file size.
 
     Raises
     ------
     FormatError
-        empty, binary, or with no ``[SECTION]`` at all.
+        empty, binary, a key given twice in a section, a line that is neither
+        ``KEY = value`` nor a table row, or no ``[SECTION]`` at all; each
+        names the file line.
     """
     p = Path(path)
     try:
         raw = p.read_bytes()
     except OSError as exc:
         raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raw = raw[3:]
     if not raw.strip():
         raise FormatError(f"{p}: file is empty; expected a tyre property file with [SECTION] blocks")
     if b"\x00" in raw[:4096]:
@@ -141,98 +277,235 @@ def read_property_file(path: str | os.PathLike) -> PropertyFile:
         text = raw.decode("latin-1")
     pf = PropertyFile(path=str(p))
     section = None
-    table_cols: list[str] | None = None
     for lineno, line in enumerate(text.splitlines(), 1):
         s = line.strip()
         if not s:
             continue
         if s[0] in "$!":
-            if not _SEPARATOR.match(s):
+            if not _is_separator(s):
                 pf.comments.append(s[1:].strip())
             continue
-        m = _SECTION.match(s)
-        if m:
-            section = m.group(1).upper()
-            pf.sections.setdefault(section, {})
-            table_cols = None
-            continue
+        if s[0] == "[":
+            close = s.find("]")
+            name = s[1:close].strip() if close > 0 else ""
+            if close > 0 and name and name.isascii() and name.replace("_", "a").isalnum():
+                section = name.upper()
+                pf.sections.setdefault(section, {})  # a repeated section continues (its keys stay unique)
+                continue
+            raise FormatError(f"{p}:{lineno}: cannot read section header '{s[:40]}'; expected [NAME]")
         s = _strip_comment(s)
         if not s:
             continue
         if section is None:
             raise FormatError(f"{p}:{lineno}: '{s[:40]}' before any [SECTION]; not a tyre property file")
         if s.startswith("{"):
-            table_cols = s.strip("{} ").split()
-            pf.tables[section] = {"columns": table_cols, "rows": []}
+            pf.tables[section] = {"columns": s.strip("{} ").split(), "rows": [], "line": lineno}
             continue
-        kv = _KEYVAL.match(s)
-        if kv:
-            pf.sections[section][kv.group(1).upper()] = _value(kv.group(2))
-            continue
-        if table_cols is not None:
-            try:
-                pf.tables[section]["rows"].append([float(x) for x in s.split()])
+        eq = s.find("=")
+        if eq > 0:
+            key = s[:eq].strip()
+            if _is_key(key):
+                key = key.upper()
+                entries = pf.sections[section]
+                if key in entries:
+                    raise FormatError(f"{p}:{lineno}: {key} is given twice in [{section}] (first at line "
+                                      f"{pf.lines[(section, key)]}); keep one")
+                entries[key] = _value(s[eq + 1:])
+                pf.lines[(section, key)] = lineno
                 continue
-            except ValueError:
-                pass
-        raise FormatError(f"{p}:{lineno}: cannot read '{s[:40]}' in [{section}]; expected KEY = value")
+        row = _numbers(s)
+        if row:
+            tab = pf.tables.get(section)
+            if tab is None:  # a keyless table (vendor [SHAPE]: rows of 'radial width')
+                tab = pf.tables[section] = {"columns": None, "rows": [], "line": lineno}
+            if tab["rows"] and len(tab["rows"][0]) != len(row):
+                raise FormatError(f"{p}:{lineno}: table row '{s[:40]}' in [{section}] has {len(row)} values; the "
+                                  f"rows above have {len(tab['rows'][0])}")
+            tab["rows"].append(row)
+            continue
+        raise FormatError(f"{p}:{lineno}: cannot read '{s[:40]}' in [{section}]; expected KEY = value or a "
+                          "row of numbers")
     if not pf.sections:
         raise FormatError(f"{p}: no [SECTION] found; not a tyre property file")
+    for (sec, key), lineno in pf.lines.items():
+        if sec.endswith(_NUMERIC_SECTION_SUFFIXES) or sec in _NUMERIC_SECTIONS:
+            v = pf.sections[sec][key]
+            if v is None:
+                raise FormatError(f"{p}:{lineno}: {key} in [{sec}] has no value; a number is required")
+            if isinstance(v, str) and sec.endswith("_COEFFICIENTS"):
+                raise FormatError(f"{p}:{lineno}: {key} = {v[:40]!r} in [{sec}] is not a number")
     return pf
+
+
+def _ranges(pf: PropertyFile) -> dict[str, tuple[float, float]]:
+    """Declared validity ranges in SI from the ``[*_RANGE]`` sections."""
+    F, A = pf.unit_factor("FORCE"), pf.unit_factor("ANGLE")
+    P = pf.unit_factor("PRESSURE") if pf.get("PRESSURE", section="UNITS") else 1.0
+    ranges = {}
+    for key, lo, hi, fac in (("fz", "FZMIN", "FZMAX", F), ("slip_angle", "ALPMIN", "ALPMAX", A),
+                             ("camber", "CAMMIN", "CAMMAX", A), ("slip_ratio", "KPUMIN", "KPUMAX", 1.0),
+                             ("pressure", "PRESMIN", "PRESMAX", P)):
+        a, b = pf.number(lo, factor=fac), pf.number(hi, factor=fac)
+        if a is not None and b is not None:
+            if not a <= b:
+                raise FormatError(f"{pf.where(lo)}: {lo} = {a / fac:g} is above {hi} = {b / fac:g}")
+            ranges[key] = (a, b)
+    return ranges
+
+
+def pac89_from_property_file(pf: PropertyFile) -> Pac89Tyre:
+    """A :class:`Pac89Tyre` from a parsed PAC89 property file (design data in SI).
+
+    The lateral block a0..a13 is required; the longitudinal (b) and aligning
+    (c) blocks are optional, but a block the file starts must be complete.
+    Missing coefficients are listed in :attr:`Pac89Tyre.missing` (so that
+    ``inspect`` can name them) and make :meth:`Pac89Tyre.check` fail.
+    """
+    path = pf.path
+    L, F = pf.unit_factor("LENGTH"), pf.unit_factor("FORCE")
+    coeffs, missing = {}, []
+    for part, names in REQUIRED.items():
+        given = [n for n in names if any(n.upper() in e for e in pf.sections.values())]
+        if part != "lateral" and not given:
+            continue
+        for name in names:
+            v = pf.number(name)
+            if v is None:
+                missing.append(name)
+            else:
+                coeffs[name] = v
+    if not any(k in coeffs for k in pac89.LATERAL) and not any(k in coeffs for k in pac89.LONGITUDINAL):
+        raise FormatError(f"{path}: no PAC89 coefficients found (a0..a13, b0..b10); expected "
+                          "[LATERAL_COEFFICIENTS] a0 = ...")
+
+    damping = pf.number("VERTICAL_DAMPING", factor=F / L)
+    mass = pf.number("MASS", section="INERTIA")
+    return Pac89Tyre(
+        coefficients=coeffs,
+        unloaded_radius=pf.number("UNLOADED_RADIUS", factor=L),
+        width=pf.number("WIDTH", section="DIMENSION", factor=L),
+        aspect_ratio=pf.number("ASPECT_RATIO", section="DIMENSION"),
+        fnomin=pf.number("FNOMIN", factor=F),
+        lateral_stiffness=pf.number("LATERAL_STIFFNESS", factor=F / L),
+        vertical_stiffness=pf.number("VERTICAL_STIFFNESS", factor=F / L),
+        vertical_damping=damping,
+        mass=mass,
+        rolling_resistance=pf.number("ROLLING_RESISTANCE") or 0.0,
+        ranges=_ranges(pf),
+        header=list(pf.comments),
+        name=str(pf.get("NAME", section="MODEL") or Path(path).stem),
+        tyreside=str(pf.get("TYRESIDE") or "LEFT").upper(),
+        missing=missing,
+    )
 
 
 def read_tir(path: str | os.PathLike) -> Pac89Tyre:
     """Read a PAC89 ``.tir`` into a :class:`Pac89Tyre` (design data in SI)."""
     pf = read_property_file(path)
-    fmt = pf.format
-    if fmt != "PAC89":
+    if pf.family != "PAC89":
+        fmt = pf.format
         raise FormatError(f"{path}: PROPERTY_FILE_FORMAT is {fmt or 'missing'!s}; a PAC89 file is needed here "
-                          "(other formats can be inspected with 'tyrefit inspect')")
-    L, F, A = pf.unit_factor("LENGTH"), pf.unit_factor("FORCE"), pf.unit_factor("ANGLE")
-    coeffs = {}
-    for name in pac89.ALL:
-        v = pf.get(name)
-        if v is None:
-            continue
-        if not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise FormatError(f"{path}: coefficient {name} = {str(v)[:40]!r} is not a finite number")
-        coeffs[name] = float(v)
-    if not any(k in coeffs for k in pac89.LATERAL):
-        raise FormatError(f"{path}: no lateral coefficients a0..a13 found")
-
-    def num(key, factor=1.0, section=None):
-        v = pf.get(key, section=section)
-        return float(v) * factor if isinstance(v, (int, float)) else None
-
-    ranges = {}
-    for key, lo, hi, fac in (("fz", "FZMIN", "FZMAX", F), ("slip_angle", "ALPMIN", "ALPMAX", A),
-                             ("camber", "CAMMIN", "CAMMAX", A), ("slip_ratio", "KPUMIN", "KPUMAX", 1.0)):
-        a, b = num(lo, fac), num(hi, fac)
-        if a is not None and b is not None:
-            ranges[key] = (a, b)
-    header = [c for c in pf.comments]
-    return Pac89Tyre(
-        coefficients=coeffs,
-        unloaded_radius=num("UNLOADED_RADIUS", L),
-        width=num("WIDTH", L, section="DIMENSION"),
-        fnomin=num("FNOMIN", F),
-        lateral_stiffness=num("LATERAL_STIFFNESS", F / L),
-        vertical_stiffness=num("VERTICAL_STIFFNESS", F / L),
-        rolling_resistance=num("ROLLING_RESISTANCE") or 0.0,
-        ranges=ranges,
-        header=header,
-        name=str(pf.get("NAME", section="MODEL") or Path(path).stem),
-        tyreside=str(pf.get("TYRESIDE", default="LEFT")).upper(),
-    )
+                          "(read any tyre file with tyrefit.io.tir.read_tyre)")
+    return pac89_from_property_file(pf)
 
 
-def read_tyre(path: str | os.PathLike) -> Pac89Tyre:
-    """Read a PAC89 tyre from ``.tir`` or Chrono ``.json``."""
+def read_tyre(path: str | os.PathLike) -> Tyre:
+    """Read any tyre file the tool knows into the right :class:`~tyrefit.tyres.base.Tyre`.
+
+    PAC89 ``.tir`` -> :class:`Pac89Tyre`; MF 5.x / PAC2002 (``FITTYP`` 5, 6, 21,
+    ``PROPERTY_FILE_FORMAT`` 'MF_05', 'PAC2002', 'MF5.2') and MF 6.1 / 6.2
+    (``FITTYP`` 61, 62) -> :class:`~tyrefit.tyres.mf.MFTyre`; Chrono PAC89
+    ``.json`` -> :class:`Pac89Tyre`.  This is the one public entry point for
+    reading a tyre.
+
+    Raises
+    ------
+    FormatError
+        unreadable, or a family the tool does not evaluate.
+    """
     if str(path).lower().endswith(".json"):
         from .chrono_json import read_chrono_json
 
         return read_chrono_json(path)
-    return read_tir(path)
+    pf = read_property_file(path)
+    fam = pf.family
+    if fam == "PAC89":
+        return pac89_from_property_file(pf)
+    if fam in ("MF52", "MF61"):
+        return mf_from_property_file(pf)
+    fmt = pf.format
+    raise FormatError(f"{path}: cannot tell the tyre model: PROPERTY_FILE_FORMAT / FITTYP is "
+                      f"{fmt[:40] or 'missing'!s}; accepted: PAC89, MF 5.x/PAC2002 (FITTYP 5, 6, 21, 'MF_05', "
+                      "'PAC2002'), MF 6.1/6.2 (FITTYP 61, 62)")
+
+
+#: dimensional MF keys -> unit kind(s) ('LENGTH', 'FORCE', ...; a tuple is a quotient numerator/denominator)
+_MF_UNITS = {
+    "UNLOADED_RADIUS": "LENGTH", "WIDTH": "LENGTH", "RIM_RADIUS": "LENGTH", "RIM_WIDTH": "LENGTH",
+    "BOTTOM_OFFST": "LENGTH", "Q_RA1": None, "FNOMIN": "FORCE", "FZMIN": "FORCE", "FZMAX": "FORCE",
+    "NOMPRES": "PRESSURE", "INFLPRES": "PRESSURE", "PRESMIN": "PRESSURE", "PRESMAX": "PRESSURE",
+    "IP": "PRESSURE", "IP_NOM": "PRESSURE",
+    "ALPMIN": "ANGLE", "ALPMAX": "ANGLE", "CAMMIN": "ANGLE", "CAMMAX": "ANGLE",
+    "LONGVL": ("LENGTH", "TIME"), "VXLOW": ("LENGTH", "TIME"),
+    "VERTICAL_STIFFNESS": ("FORCE", "LENGTH"), "VERTICAL_DAMPING": ("FORCE", "TIME", "LENGTH"),
+    "LATERAL_STIFFNESS": ("FORCE", "LENGTH"), "LONGITUDINAL_STIFFNESS": ("FORCE", "LENGTH"),
+    "BOTTOM_STIFF": ("FORCE", "LENGTH"), "MASS": "MASS",
+}
+
+
+def _mf_factor(pf: PropertyFile, kind) -> float:
+    if kind is None:
+        return 1.0
+    if isinstance(kind, str):
+        return pf.unit_factor(kind)
+    if len(kind) == 2:
+        return pf.unit_factor(kind[0]) / pf.unit_factor(kind[1])
+    return pf.unit_factor(kind[0]) * pf.unit_factor(kind[1]) / pf.unit_factor(kind[2])
+
+
+def mf_from_property_file(pf: PropertyFile) -> MFTyre:
+    """An :class:`~tyrefit.tyres.mf.MFTyre` from a parsed MF 5.x / 6.x property file.
+
+    Every numeric entry becomes a parameter under its upper-case key; the
+    dimensional ones (radius, loads, pressures, speeds, ranges, stiffnesses)
+    are converted to SI through the file's ``[UNITS]``.  Empty values in
+    coefficient, dimension and range sections have already been refused by
+    :func:`read_property_file`.  Missing required coefficients are listed in
+    ``missing`` (not guessed).
+    """
+    params: dict[str, float] = {}
+    for sec, entries in pf.sections.items():
+        if sec in ("UNITS", "MDI_HEADER"):
+            continue
+        for key, v in entries.items():
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                continue
+            if not math.isfinite(float(v)):
+                raise FormatError(f"{pf.where(key, sec)}: {key} = {v!r} is not a finite number")
+            if key in params:  # the same key in two sections: the first one counts, as in Adams
+                continue
+            params[key] = float(v) * _mf_factor(pf, _MF_UNITS.get(key))
+    family = pf.family
+    fittyp = pf.fittyp
+    version = {62: "6.2", 61: "6.1"}.get(fittyp, "6.1" if family == "MF61" else "5.2")
+    nom_p = params.get("NOMPRES", params.get("IP_NOM"))
+    return MFTyre(
+        params=params,
+        family=family,
+        version=version,
+        declared_format=pf.format,
+        name=str(pf.get("NAME") or Path(pf.path).stem),
+        tyreside=str(pf.get("TYRESIDE") or "LEFT").upper(),
+        fnomin=params.get("FNOMIN"),
+        unloaded_radius=params.get("UNLOADED_RADIUS"),
+        width=params.get("WIDTH"),
+        nominal_pressure=nom_p,
+        nominal_speed=params.get("LONGVL"),
+        ranges=_ranges(pf),
+        header=list(pf.comments),
+        tables={k: dict(v) for k, v in pf.tables.items()},
+        source=pf.path,
+    )
 
 
 def _f(v: float) -> str:

@@ -1,5 +1,11 @@
-"""Tyre containers: coefficients plus the design data a simulator needs, evaluated in SI and ISO-W."""
+"""Tyre models behind one interface (:class:`~tyrefit.tyres.base.Tyre`): PAC89, MF 5.2, MF 6.1/6.2.
 
+Read any tyre file with :func:`tyrefit.io.tir.read_tyre` (PAC89 / MF ``.tir``
+and Chrono PAC89 JSON); it returns the right family.
+"""
+
+from .base import FAMILIES, MirroredTyre, Tyre, require_physical
+from .mf import MFTyre
 from .pac89 import Pac89Tyre
 
-__all__ = ["Pac89Tyre"]
+__all__ = ["Tyre", "MirroredTyre", "Pac89Tyre", "MFTyre", "FAMILIES", "require_physical"]

@@ -2,9 +2,10 @@
 
 :class:`Pac89Tyre` is the container that ``tyrefit fit`` produces, that
 ``.tir`` and Chrono JSON files are read into and written from, and that the
-vehicle simulation evaluates.  Every value is SI (m, N, N/m, rad) except the
-coefficients, which keep PAC89's own units and spelling (``a3``, ``b10``) so
-they can be grepped against a ``.tir``.
+vehicle simulation evaluates.  It is the PAC89 member of the
+:class:`~tyrefit.tyres.base.Tyre` interface.  Every value is SI (m, N, N/m,
+rad) except the coefficients, which keep PAC89's own units and spelling
+(``a3``, ``b10``) so they can be grepped against a ``.tir``.
 """
 
 from __future__ import annotations
@@ -15,15 +16,42 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import ModelError
 from ..models import pac89
+from .base import Tyre
 
 __all__ = ["Pac89Tyre"]
 
 
-@dataclass
-class Pac89Tyre:
+#: coefficients a PAC89 part needs (a block present in the file must give them all)
+REQUIRED = {"lateral": pac89.LATERAL, "longitudinal": pac89.LONGITUDINAL, "aligning": pac89.ALIGNING}
+
+#: Chrono's ChPac89Tire limits (projectchrono/chrono @ 05a1a976a6,
+#: src/chrono_vehicle/wheeled_vehicle/tire/ChPac89Tire.cpp, ChPac89Tire::Advance)
+CHRONO_LIMITS = {"camber_deg": 3.0, "slip_ratio": 1.0, "shifted_slip_angle_deg": 89.5}
+
+
+@dataclass(eq=False)
+class Pac89Tyre(Tyre):
     """A Pacejka '89 tyre.
+
+    Evaluated with Chrono's ``ChPac89Tire`` equations (Adams/Tire PAC89), SI in
+    and ISO-W out (:mod:`tyrefit.models.pac89`), **within Chrono's limits**.
+    Chrono (projectchrono/chrono @ 05a1a976a6,
+    ``src/chrono_vehicle/wheeled_vehicle/tire/ChPac89Tire.cpp``,
+    ``ChPac89Tire::Advance``) also
+
+    * clamps the camber to +/-``m_gamma_limit``, 3 deg by default
+      (``ChClamp(m_gamma, -m_gamma_limit, m_gamma_limit)``);
+    * clamps the longitudinal slip to +/-1 (``ChClampValue(cp_long_slip, -1, 1)``)
+      and the shifted slip angle X1 to +/-89.5 deg (this clamp is also here);
+    * adds ``Fx * Fy / k_lat`` to Mz and sets ``Mx = -Fz * Fy / k_lat``
+      (``deflection = Fy / m_lateral_stiffness``), with k_lat the lateral stiffness;
+    * scales Fx, Fy, Mz by the road's mu / 0.8 and adds a rolling-resistance My.
+
+    :meth:`forces` does none of that: it is the PAC89 formula itself, with no
+    combined slip (Fx depends on the slip ratio only, Fy and Mz on the slip
+    angle and camber only).  Beyond 3 deg of camber or |kappa| = 1, and for Mz
+    wherever Fx and Fy are both large, Chrono's numbers differ from these.
 
     Attributes
     ----------
@@ -47,7 +75,19 @@ class Pac89Tyre:
     name : str
     tyreside : str
         'LEFT' or 'RIGHT'.
+    aspect_ratio : float or None
+        section height / width [-].
+    vertical_damping : float or None
+        [N*s/m].
+    mass : float or None
+        tyre mass [kg].
+    inertia : tuple of 3 floats or None
+        tyre moments of inertia (Ixx, Iyy, Izz) about the wheel centre [kg*m^2].
+    missing : list of str
+        required coefficients that the file read did not give (see :data:`REQUIRED`).
     """
+
+    family = "PAC89"
 
     coefficients: dict[str, float] = field(default_factory=dict)
     unloaded_radius: float | None = None
@@ -61,11 +101,36 @@ class Pac89Tyre:
     vertical_curve: list[tuple[float, float]] | None = None
     name: str = "tyrefit PAC89 tyre"
     tyreside: str = "LEFT"
+    aspect_ratio: float | None = None
+    vertical_damping: float | None = None
+    mass: float | None = None
+    inertia: tuple[float, float, float] | None = None
+    missing: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         coeffs = {k: 0.0 for k in pac89.ALL}
         coeffs.update({str(k).lower(): float(v) for k, v in dict(self.coefficients).items()})
         self.coefficients = coeffs
+
+    # -- the Tyre interface ---------------------------------------------------------
+    def forces(self, fz, slip_angle=0.0, slip_ratio=0.0, camber=0.0, pressure=None, speed=None):
+        """Fx, Fy [N] and Mz [N*m] in ISO-W (pure slip; see the class notes for Chrono's limits).
+
+        ``pressure`` and ``speed`` are accepted for the interface and have no
+        effect: PAC89 has neither.  Points with ``fz <= 0`` give zeros.
+        """
+        fz, sa, sr, cam = np.broadcast_arrays(*(np.asarray(x, dtype=float)
+                                                for x in (fz, slip_angle, slip_ratio, camber)))
+        on = fz > 0
+        fzs = np.where(on, fz, 1.0)  # any positive load where off the ground; zeroed below
+        c = self.coefficients
+        with np.errstate(all="ignore"):
+            out = {"fx": pac89.longitudinal_force(c, fzs, sr),
+                   "fy": pac89.lateral_force(c, fzs, sa, cam),
+                   "mz": pac89.aligning_moment(c, fzs, sa, cam)}
+        has = {"fx": self.has_longitudinal, "fy": self.has_lateral, "mz": self.has_aligning}
+        return {k: np.where(on, np.broadcast_to(v, fz.shape), 0.0) if has[k] else np.full(fz.shape, np.nan)
+                for k, v in out.items()}
 
     # -- evaluation (SI in, SI out, ISO-W) -----------------------------------------
     def fy(self, fz, slip_angle, camber=0.0):
@@ -101,37 +166,73 @@ class Pac89Tyre:
         return f.B * f.C * f.D * 180.0 / math.pi
 
     def mirrored(self) -> "Pac89Tyre":
-        """The same tyre mounted on the other side: ply steer and conicity terms flip."""
+        """The same tyre mounted on the other side: ply steer and conicity terms flip.
+
+        Exact at any camber: F'(a, g) = -F(-a, -g) for Fy and Mz (PAC89's E and
+        BCD depend on |gamma| only).
+        """
         c = dict(self.coefficients)
         for k in ("a9", "a10", "a12", "a13", "c12", "c13", "c16", "c17"):
             c[k] = -c[k]
         side = "RIGHT" if self.tyreside.upper() == "LEFT" else "LEFT"
-        return replace(self, coefficients=c, tyreside=side)
+        ranges = dict(self.ranges)
+        if "camber" in ranges:
+            ranges["camber"] = (-ranges["camber"][1], -ranges["camber"][0])
+        return replace(self, coefficients=c, tyreside=side, ranges=ranges)
 
     # -- physical checks -----------------------------------------------------------
-    def check_physical(self, fz_range: tuple[float, float] | None = None, n: int = 50) -> None:
-        """Raise :class:`ModelError` unless C > 0, D > 0 and E <= 1 over the load range.
+    def check(self, n: int = 41) -> list[str]:
+        """Problems of the model over its declared load and camber range (empty when physical).
 
-        The range defaults to the fitted ``ranges['fz']`` or 0.2-2 x FNOMIN.
-        The lateral part is checked unless the tyre is longitudinal-only; the
-        longitudinal part only when present.
+        Lateral part (unless the tyre is longitudinal-only): C = a0 > 0,
+        D > 0, a4 != 0, BCD > 0 (a positive cornering stiffness), E <= 1,
+        peak friction D/Fz <= 5.  Longitudinal part when present: C = b0 > 0,
+        D > 0, BCD > 0, E <= 1.  Aligning part when present: C = c0 > 0,
+        D != 0, E <= 1 (Mz's D is negative in PAC89's convention).  Then
+        finite forces over the slip ranges, and every coefficient of a part
+        the file gives (:attr:`missing`).  The load range is the fitted or
+        declared ``ranges['fz']``, else 0.2-2 x FNOMIN, else 1-10 kN.
         """
-        lo, hi = fz_range or self.ranges.get("fz") or (
-            (0.2 * self.fnomin, 2.0 * self.fnomin) if self.fnomin else (1000.0, 10000.0))
-        fzk = np.linspace(lo, hi, n) * 1e-3
+        return self._check_range(None, n)
+
+    def _check_range(self, fz_range, n):
+        v = self.validity()
+        lo, hi = fz_range or v["fz"]
+        fzk = np.linspace(lo, hi, n)[:, None] * 1e-3
+        gam = np.unique(np.degrees(np.linspace(*v["camber"], 5)))[None, :]
         c = self.coefficients
-        parts = []
-        if self.has_lateral or not self.has_longitudinal:
-            parts.append(("lateral", pac89.lateral_factors(c, fzk, 0.0 * fzk)))
-        if self.has_longitudinal:
-            parts.append(("longitudinal", pac89.longitudinal_factors(c, fzk)))
-        for part, f in parts:
-            C, D, E = (np.broadcast_to(v, fzk.shape) for v in (f.C, f.D, f.E))
-            for bad, what in ((C <= 0, "C <= 0"), (D <= 0, "D <= 0"), (E > 1, "E > 1")):
-                if np.any(bad):
-                    at = fzk[np.argmax(bad)] * 1e3
-                    raise ModelError(f"{part} model is not physical: {what} at Fz = {at:.0f} N "
-                                     f"(checked {lo:.0f}-{hi:.0f} N)")
+        problems = [f"required coefficient {k} is missing" for k in self.missing]
+        span = f"(checked Fz {lo:.0f}-{hi:.0f} N)"
+
+        with np.errstate(all="ignore"):
+            parts = []
+            if self.has_lateral or not self.has_longitudinal:
+                if c["a4"] == 0.0:
+                    problems.append("lateral: a4 = 0 (BCD = a3 sin(2 atan(Fz/a4)) is undefined)")
+                parts.append(("lateral", pac89.lateral_factors(c, fzk, gam), True))
+            if self.has_longitudinal:
+                parts.append(("longitudinal", pac89.longitudinal_factors(c, fzk), True))
+            if self.has_aligning:
+                parts.append(("aligning", pac89.aligning_factors(c, fzk, gam), False))
+            for part, f, positive_d in parts:
+                shape = np.broadcast_shapes(np.shape(f.C), np.shape(f.D), np.shape(f.E), np.shape(f.B))
+                C, D, E, B = (np.broadcast_to(x, shape) for x in (f.C, f.D, f.E, f.B))
+                BCD = B * C * D
+                tests = [(~(C > 0), "C <= 0"), (~(D > 0) if positive_d else ~(D != 0), "D <= 0" if positive_d
+                                                                                      else "D = 0"),
+                         (~(E <= 1), "E > 1")]
+                if positive_d:
+                    tests.append((~(BCD > 0), "BCD <= 0 (the slip stiffness is not positive)"))
+                if part == "lateral":
+                    tests.append((np.abs(D) / (fzk * 1e3) > 5.0, "peak friction D/Fz > 5"))
+                for bad, what in tests:
+                    if np.any(bad):
+                        row = int(np.argmax(np.any(bad.reshape(bad.shape[0], -1), axis=1)))
+                        problems.append(f"{part} model is not physical: {what} at Fz = {fzk[row, 0] * 1e3:.0f} N "
+                                        f"{span}")
+        if not problems:
+            problems += self._finite_problems(n)
+        return problems
 
     # -- files ----------------------------------------------------------------------
     @classmethod

@@ -1,0 +1,280 @@
+"""Magic Formula tyres (MF 5.2 / PAC2002 and MF 6.1 / 6.2) behind the tyre interface.
+
+:class:`MFTyre` holds a property file's parameters under their ``.tir``
+spelling in upper case (``PCY1``, ``LMUY``, ``FNOMIN``), dimensional values
+converted to SI by the reader (:func:`tyrefit.io.tir.mf_from_property_file`),
+and evaluates them with the MF 6.1 / 5.2 equations of
+:mod:`tyrefit.models.mf61` (pure and combined slip, camber, pressure, Mx, My).
+MF 6.2 files are evaluated as 6.1; turn slip is out of scope.
+
+:meth:`MFTyre.check` looks at the Magic Formula factors themselves over the
+declared ranges -- the MF analogues of PAC89's C > 0, D > 0, a4 != 0, E <= 1 --
+with the equations of Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. (2012),
+section 4.3.2 (numbers (4.E11)-(4.E25)), then that the evaluated forces are
+finite on a grid over the ranges.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from .base import Tyre
+
+try:  # the evaluator (tyrefit.models.mf61) is written alongside this interface
+    from ..models import mf61 as _mf61
+except ImportError:  # pragma: no cover - only until the evaluator is in the tree
+    _mf61 = None
+
+__all__ = ["MFTyre", "REQUIRED_MF"]
+
+#: coefficients without which a part of an MF tyre cannot be evaluated (the others default to 0, L* to 1)
+REQUIRED_MF: dict[str, tuple[str, ...]] = {
+    "general": ("FNOMIN", "UNLOADED_RADIUS"),
+    "longitudinal": ("PCX1", "PDX1", "PKX1"),
+    "lateral": ("PCY1", "PDY1", "PKY1", "PKY2"),
+    "aligning": ("QBZ1", "QCZ1", "QDZ1"),
+}
+
+
+@dataclass(eq=False)
+class MFTyre(Tyre):
+    """A Magic Formula 5.2 or 6.1/6.2 tyre read from a property file.
+
+    Attributes
+    ----------
+    params : dict
+        upper-case ``.tir`` key -> value; dimensional values in SI.
+    family : str
+        'MF52' or 'MF61'.
+    version : str
+        '5.2', '6.1' or '6.2' (6.2 is evaluated as 6.1).
+    declared_format : str
+        the file's ``PROPERTY_FILE_FORMAT`` (or FITTYP) as declared.
+    ranges : dict
+        declared validity ranges (SI) from the ``[*_RANGE]`` sections.
+    tables : dict
+        the file's curve and shape tables, as read.
+    """
+
+    params: dict[str, float] = field(default_factory=dict)
+    family: str = "MF61"
+    version: str = "6.1"
+    declared_format: str = ""
+    name: str = "MF tyre"
+    tyreside: str = "LEFT"
+    fnomin: float | None = None
+    unloaded_radius: float | None = None
+    width: float | None = None
+    nominal_pressure: float | None = None
+    nominal_speed: float | None = None
+    ranges: dict[str, tuple[float, float]] = field(default_factory=dict)
+    header: list[str] = field(default_factory=list)
+    tables: dict[str, Any] = field(default_factory=dict)
+    source: str = ""
+
+    combined = True
+    outputs = ("fx", "fy", "mz", "mx", "my")
+
+    def __post_init__(self) -> None:
+        self.params = {str(k).upper(): float(v) for k, v in dict(self.params).items()}
+        if self.family not in ("MF52", "MF61"):
+            raise ModelError(f"MF family must be 'MF52' or 'MF61', got {self.family!r}")
+
+    # -- the Tyre interface ---------------------------------------------------------
+    def forces(self, fz, slip_angle=0.0, slip_ratio=0.0, camber=0.0, pressure=None, speed=None):
+        """Fx, Fy, Mz, Mx, My (SI, ISO-W), combined slip (see :mod:`tyrefit.models.mf61`).
+
+        ``pressure`` defaults to the file's INFLPRES (else NOMPRES); ``speed``
+        to LONGVL.  Points with ``fz <= 0`` give zeros.
+        """
+        if _mf61 is None:  # pragma: no cover
+            raise ModelError(f"{self.name}: Magic Formula evaluation (tyrefit.models.mf61) is not available in "
+                             "this installation")
+        p0 = self.params.get("INFLPRES", self.nominal_pressure)
+        v0 = self.nominal_speed
+        fz, sa, sr, cam = np.broadcast_arrays(*(np.asarray(x, dtype=float)
+                                                for x in (fz, slip_angle, slip_ratio, camber)))
+        pr = np.broadcast_to(np.asarray(p0 if pressure is None else pressure, dtype=float), fz.shape) \
+            if (pressure is not None or p0 is not None) else None
+        vv = np.broadcast_to(np.asarray(v0 if speed is None else speed, dtype=float), fz.shape) \
+            if (speed is not None or v0 is not None) else None
+        on = fz > 0
+        fzs = np.where(on, fz, self.fnomin or 1.0)
+        with np.errstate(all="ignore"):
+            out = _mf61.forces(self.params, fzs, slip_ratio=sr, slip_angle=sa, camber=cam, pressure=pr, speed=vv,
+                               version=self.family)
+        return {k: np.where(on, np.broadcast_to(np.asarray(v, dtype=float), fz.shape), 0.0)
+                for k, v in out.items() if k in ("fx", "fy", "mz", "mx", "my")}
+
+    def _has(self, part: str) -> bool:
+        return any(k in self.params for k in REQUIRED_MF[part])
+
+    @property
+    def has_lateral(self) -> bool:
+        return self._has("lateral")
+
+    @property
+    def has_longitudinal(self) -> bool:
+        return self._has("longitudinal")
+
+    @property
+    def has_aligning(self) -> bool:
+        return self._has("aligning")
+
+    @property
+    def missing(self) -> list[str]:
+        """Required coefficients the file does not give (a part absent altogether is not listed)."""
+        out = [k for k in REQUIRED_MF["general"] if k not in self.params]
+        parts = [p for p in ("longitudinal", "lateral", "aligning") if self._has(p)]
+        if not parts:
+            parts = ["longitudinal", "lateral"]
+        for part in parts:
+            out += [k for k in REQUIRED_MF[part] if k not in self.params]
+        if self.family == "MF61":
+            uses_pressure = any(self.params.get(k, 0.0) != 0.0 for k in self.params if k.startswith("PP"))
+            if uses_pressure and "NOMPRES" not in self.params:
+                out.append("NOMPRES")
+        return out
+
+    # -- checks ---------------------------------------------------------------------
+    def factors(self, fz, camber=0.0, pressure=None) -> dict[str, np.ndarray]:
+        """Pure-slip Magic Formula factors at load [N], camber [rad], pressure [Pa].
+
+        Cx, mux (Dx/Fz), Ex (for kappa > 0 and < 0), Kxk; Cy, muy, Ey (alpha > 0
+        and < 0), Kya; Ct, Et bounds for Mz.  Pacejka (2012) (4.E11)-(4.E25),
+        (4.E40)-(4.E44); MF 5.2 where it differs (no pressure terms,
+        Kya = PKY1 Fz0 sin(2 atan(Fz/(PKY2 Fz0))) (1 - PKY3 |gamma|)).
+        """
+        p = self.params
+
+        def g(k, d=0.0):
+            return p.get(k, d)
+
+        def s(k):  # scaling factors default to 1
+            return p.get(k, 1.0)
+
+        fz = np.asarray(fz, dtype=float)
+        gam = np.asarray(camber, dtype=float)
+        fz0 = g("FNOMIN", 1.0) * s("LFZO")  # (4.E1)
+        dfz = (fz - fz0) / fz0  # (4.E2a)
+        if self.family == "MF61" and g("NOMPRES") > 0:
+            pr = self.params.get("INFLPRES", g("NOMPRES")) if pressure is None else pressure
+            dpi = (np.asarray(pr, dtype=float) - g("NOMPRES")) / g("NOMPRES")  # (4.E2b)
+        else:
+            dpi = 0.0 * fz
+        mf61 = self.family == "MF61"
+        out = {}
+        out["Cx"] = g("PCX1") * s("LCX") + 0 * fz  # (4.E11)
+        out["mux"] = ((g("PDX1") + g("PDX2") * dfz) * (1 + g("PPX3") * dpi + g("PPX4") * dpi**2)
+                      * (1 - g("PDX3") * gam**2) * s("LMUX"))  # (4.E13)
+        ex = (g("PEX1") + g("PEX2") * dfz + g("PEX3") * dfz**2) * s("LEX")  # (4.E14)
+        out["Ex+"], out["Ex-"] = ex * (1 - g("PEX4")), ex * (1 + g("PEX4"))
+        out["Kxk"] = (fz * (g("PKX1") + g("PKX2") * dfz) * np.exp(g("PKX3") * dfz)
+                      * (1 + g("PPX1") * dpi + g("PPX2") * dpi**2) * s("LKX"))  # (4.E15)
+        out["Cy"] = g("PCY1") * s("LCY") + 0 * fz  # (4.E21)
+        out["muy"] = ((g("PDY1") + g("PDY2") * dfz) * (1 + g("PPY3") * dpi + g("PPY4") * dpi**2)
+                      * (1 - g("PDY3") * gam**2) * s("LMUY"))  # (4.E23)
+        ey0 = (g("PEY1") + g("PEY2") * dfz) * s("LEY")
+        ecam = (1 + g("PEY5") * gam**2) if mf61 else 1.0
+        shift = g("PEY3") + g("PEY4") * gam
+        out["Ey+"], out["Ey-"] = ey0 * (ecam - shift), ey0 * (ecam + shift)  # (4.E24)
+        if mf61:
+            den = (g("PKY2") + g("PKY5") * gam**2) * (1 + g("PPY2") * dpi) * fz0
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out["Kya"] = (g("PKY1") * fz0 * (1 + g("PPY1") * dpi) * (1 - g("PKY3") * np.abs(gam))
+                              * np.sin(g("PKY4", 2.0) * np.arctan(fz / den)) * s("LKY"))  # (4.E25)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out["Kya"] = (g("PKY1") * fz0 * np.sin(2 * np.arctan(fz / (g("PKY2") * fz0)))
+                              * (1 - g("PKY3") * np.abs(gam)) * s("LKY"))  # MF 5.2
+        out["Ct"] = g("QCZ1") + 0 * fz  # (4.E41)
+        et = g("QEZ1") + g("QEZ2") * dfz + g("QEZ3") * dfz**2  # (4.E44), atan term bounded by +/-1
+        bound = np.abs(g("QEZ4") + g("QEZ5") * gam)
+        out["Et_max"] = np.maximum(et * (1 + bound), et * (1 - bound))
+        return out
+
+    def check(self, n: int = 41) -> list[str]:
+        """Problems that make the tyre unusable (empty when physical).
+
+        Conditions (Pacejka 2012, 4.E11-4.E25, 4.E41-4.E44), over the declared
+        load, camber and pressure ranges: Cx = PCX1 LCX > 0, Cy = PCY1 LCY > 0,
+        Ct = QCZ1 > 0, mu_x > 0, mu_y > 0, PKY2 != 0; at the nominal point
+        (FNOMIN, zero camber, nominal pressure): Ex <= 1 and Ey <= 1 for both
+        slip signs, Kxk > 0, Kya != 0, Et <= 1; every required coefficient
+        given (:attr:`missing`); then finite forces on a grid over the ranges
+        (pure and combined slip).  E > 1 or a lost stiffness towards the edges
+        of the declared range only (common in vendor files, whose ranges
+        reach far beyond the measured loads) is reported by :meth:`warnings`.
+        """
+        problems = [f"required coefficient {k} is missing" for k in self.missing]
+        problems += self._factor_problems(n, hard=True)
+        if not problems and _mf61 is not None:
+            problems += self._finite_problems(n)
+        return problems
+
+    def warnings(self, n: int = 41) -> list[str]:
+        """Questionable but evaluable: E > 1, Kxk <= 0, Kya = 0 or changing sign, or mu > 5 inside the range."""
+        return self._factor_problems(n, hard=False)
+
+    def _factor_problems(self, n: int, hard: bool) -> list[str]:
+        v = self.validity()
+        lo, hi = v["fz"]
+        if hard:
+            fz0 = self.fnomin or 0.5 * (lo + hi)
+            fz_grid = np.linspace(lo, hi, n)[:, None, None]
+            nominal = np.array([[[fz0]]])
+        else:
+            fz_grid = np.linspace(lo, hi, n)[:, None, None]
+            nominal = fz_grid
+        cam = np.unique(np.linspace(*v["camber"], 5))[None, :, None]
+        pr = np.unique(np.asarray(v.get("pressure", (np.nan, np.nan)), float))[None, None, :]
+        pr = None if np.all(np.isnan(pr)) else pr
+        with np.errstate(all="ignore"):
+            f = self.factors(fz_grid, cam, pr)
+            f0 = self.factors(nominal, 0.0 * cam[:, :1] if hard else cam, None if hard else pr)
+        span = f"(checked Fz {lo:.0f}-{hi:.0f} N)"
+        at0 = " at the nominal load" if hard else ""
+        everywhere, nominal_tests = [], []
+        if self.has_longitudinal:
+            everywhere += [("longitudinal", "Cx = PCX1 LCX <= 0", ~(f["Cx"] > 0)),
+                           ("longitudinal", "mu_x <= 0 (PDX1, PDX2)", ~(f["mux"] > 0))]
+            nominal_tests += [("longitudinal", "Ex > 1 (PEX1..PEX4)", ~((f0["Ex+"] <= 1) & (f0["Ex-"] <= 1))),
+                              ("longitudinal", "Kxk <= 0 (PKX1..PKX3)", ~(f0["Kxk"] > 0))]
+            if not hard:
+                nominal_tests.append(("longitudinal", "mu_x > 5", f0["mux"] > 5))
+        if self.has_lateral:
+            ky = f0["Kya"]
+            everywhere += [("lateral", "Cy = PCY1 LCY <= 0", ~(f["Cy"] > 0)),
+                           ("lateral", "mu_y <= 0 (PDY1, PDY2)", ~(f["muy"] > 0))]
+            nominal_tests += [("lateral", "Ey > 1 (PEY1..PEY5)", ~((f0["Ey+"] <= 1) & (f0["Ey-"] <= 1))),
+                              ("lateral", "Kya = 0 or undefined (PKY1, PKY2)", ~(np.abs(ky) > 0))]
+            if not hard:
+                nominal_tests.append(("lateral", "mu_y > 5", f0["muy"] > 5))
+        if self.has_aligning:
+            everywhere.append(("aligning", "Ct = QCZ1 <= 0", ~(f["Ct"] > 0)))
+            nominal_tests.append(("aligning", "Et > 1 (QEZ1..QEZ5)", ~(f0["Et_max"] <= 1)))
+        problems = []
+        if hard and self.has_lateral and self.params.get("PKY2", 0.0) == 0.0 and "PKY2" not in self.missing:
+            problems.append("lateral model is not physical: PKY2 = 0 (Kya = PKY1 Fz0 sin(PKY4 atan(Fz/(PKY2 "
+                            "Fz0))) is undefined)")
+        if not hard and self.has_lateral:
+            ky = f0["Kya"]
+            if np.all(np.isfinite(ky)) and np.any(ky > 0) and np.any(ky < 0):
+                problems.append(f"lateral: the cornering stiffness Kya changes sign inside the declared range {span}")
+        tests = [(*t, fz_grid) for t in (everywhere if hard else [])] + [(*t, nominal) for t in nominal_tests]
+        for part, what, bad, src in tests:
+            bad = np.asarray(bad)
+            if np.any(bad):
+                b = np.broadcast_to(bad, np.broadcast_shapes(bad.shape, src.shape))
+                row = int(np.argmax(np.any(b.reshape(b.shape[0], -1), axis=1)))
+                where = f"Fz = {src[row, 0, 0]:.0f} N"
+                label = "is not physical" if hard else "is questionable"
+                problems.append(f"{part} model {label}: {what} at {where}{at0 if src is nominal else ''} {span}")
+        return problems
+
+    def coefficient_table(self) -> list[dict]:
+        return [{"name": k, "value": v} for k, v in self.params.items()]
