@@ -1,0 +1,143 @@
+"""Writing MF 6.1 property files (tyrefit.io.mf_tir)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tyrefit.errors import ModelError, OutputExistsError
+from tyrefit.io.mf_tir import SECTIONS, TURNSLIP, format_mf_tir, write_mf_tir
+from tyrefit.models import mf61
+
+DATA = Path(__file__).parent / "data"
+
+
+def _parse(text: str) -> tuple[list[str], dict[str, dict[str, str]]]:
+    """Sections in order and their key -> raw value text (an independent, strict reader)."""
+    order, sections, current = [], {}, None
+    for line in text.splitlines():
+        if line.startswith("$") or not line.strip():
+            continue
+        if line.startswith("["):
+            current = line.strip()[1:-1]
+            order.append(current)
+            sections[current] = {}
+            continue
+        assert "=" in line, line
+        key, rest = line.split("=", 1)
+        value = rest.split("$", 1)[0].strip()
+        assert key.strip() not in sections[current], f"duplicate {key} in [{current}]"
+        sections[current][key.strip()] = value
+    return order, sections
+
+
+def _flat(sections) -> dict:
+    out = {}
+    for name, sec in sections.items():
+        for k, v in sec.items():
+            try:
+                out[k] = float(v)
+            except ValueError:
+                out[k] = v.strip("'")
+    return out
+
+
+def _mfeval_example() -> dict:
+    out = {}
+    for line in (DATA / "mfeval_MagicFormula61_Paramerters.tir").read_text().splitlines():
+        line = line.split("$")[0].strip()
+        if line and not line.startswith("[") and "=" in line:
+            k, v = (s.strip() for s in line.split("=", 1))
+            try:
+                out[k.upper()] = float(v)
+            except ValueError:
+                out[k.upper()] = v.strip("'")
+    return out
+
+
+def test_layout_every_coefficient_once_in_its_section(tmp_path):
+    path = write_mf_tir(_mfeval_example(), tmp_path / "t.tir")
+    order, sections = _parse(path.read_text())
+    assert order == ["MDI_HEADER", "UNITS"] + SECTIONS
+    for section, names in mf61.COEFFICIENTS.items():
+        assert set(names) <= set(sections[section]), section
+    assert sections["MODEL"]["FITTYP"] == "61"
+    assert set(TURNSLIP) == set(sections["TURNSLIP_COEFFICIENTS"])
+    assert sections["UNITS"] == {"LENGTH": "'meter'", "FORCE": "'newton'", "ANGLE": "'radians'",
+                                 "MASS": "'kg'", "TIME": "'second'"}
+
+
+def test_round_trip_gives_identical_forces(tmp_path):
+    p = _mfeval_example()
+    path = write_mf_tir(p, tmp_path / "t.tir")
+    q = _flat(_parse(path.read_text())[1])
+    a = np.radians(np.linspace(-15, 15, 13))
+    k = np.linspace(-0.4, 0.4, 9)[:, None]
+    args = (np.array([2000.0, 6752.0, 9000.0])[:, None, None], k, a, 0.05, 300000.0, 12.0)
+    r0, r1 = mf61.forces(p, *args), mf61.forces(q, *args)
+    for ch in r0:
+        np.testing.assert_array_equal(r0[ch], r1[ch])
+    for key, v in p.items():
+        if isinstance(v, float) and key in q and key != "MASS":
+            assert q[key] == v, key
+
+
+def test_comments_never_run_into_values(tmp_path):
+    p = dict(mf61.neutral(), PKY1=-1.2345678901234567e-13, QSX1=123456789012.34567, WIDTH=0.1 + 0.2)
+    text = format_mf_tir(p, header=["source: a file with $ and 'quotes' and\nnew lines", "RMSE Fy 25.3 N"])
+    for line in text.splitlines():
+        if line.startswith("$") or line.startswith("[") or not line.strip():
+            continue
+        key, rest = line.split("=", 1)
+        value = rest.split("$", 1)[0]
+        assert re.fullmatch(r"\s*('[^'$]*'|[-+0-9.eE]+)\s*", value), line
+        if "$" in rest:
+            assert rest.split("$", 1)[0].endswith("  "), line
+    assert "$ source: a file with $ and 'quotes' and new lines" in text
+    q = _flat(_parse(text)[1])
+    assert q["PKY1"] == -1.2345678901234567e-13 and q["QSX1"] == 123456789012.34567 and q["WIDTH"] == 0.1 + 0.2
+
+
+def test_neutral_fill_and_not_fitted_declared(tmp_path):
+    fitted = {"FNOMIN": 3000.0, "NOMPRES": 180000.0, "LONGVL": 11.1, "UNLOADED_RADIUS": 0.26,
+              "PCX1": 1.5, "PDX1": 1.3, "PKX1": 30.0, "PCY1": 1.4, "PDY1": 1.2, "PKY1": -25.0, "PKY2": 2.0,
+              "PKY4": 2.0}
+    text = format_mf_tir(fitted, not_fitted=["mz0", "mz", "mx", "my", "fx", "fy"],
+                         ranges={"fz": (200.0, 4500.0), "camber": (-0.07, 0.07), "pressure": (150e3, 220e3),
+                                 "slip_angle": (-0.21, 0.21), "slip_ratio": (-0.3, 0.3)})
+    q = _flat(_parse(text)[1])
+    assert (q["FZMIN"], q["FZMAX"], q["CAMMIN"], q["CAMMAX"]) == (200.0, 4500.0, -0.07, 0.07)
+    assert (q["PRESMIN"], q["PRESMAX"], q["KPUMIN"], q["ALPMAX"]) == (150e3, 220e3, -0.3, 0.21)
+    assert "NOT FITTED: pure-slip Mz" in text and "NOT FITTED: rolling resistance My" in text
+    assert "DEFAULTS [STRUCTURAL]: all: neutral / generic values, not from data" in text
+    assert re.search(r"DEFAULTS \[LATERAL_COEFFICIENTS\]: PDY2, ", text)
+    # neutral parts are not zeros that give NaN: the file evaluates finite everywhere, Mz included
+    a = np.radians(np.linspace(-20, 20, 21))
+    r = mf61.forces(q, np.array([300.0, 3000.0, 4500.0])[:, None], 0.1, a, 0.05, 200e3, 3.0)
+    assert all(np.isfinite(v).all() for v in r.values())
+    assert np.abs(r["mz"]).max() > 0
+
+
+def test_bad_values_refused_before_writing(tmp_path):
+    target = tmp_path / "t.tir"
+    for bad, match in (({"PKY1": float("nan")}, "PKY1 = nan is not finite"),
+                       ({"PDX1": "abc"}, "PDX1 = 'abc' is not a number"),
+                       ({"FNOMIN": 0.0}, "FNOMIN = 0.0 must be positive"),
+                       ({"TYRESIDE": "UP"}, "TYRESIDE")):
+        with pytest.raises(ModelError, match=match):
+            write_mf_tir(dict(mf61.neutral(), **bad), target)
+        assert not target.exists()
+        assert list(tmp_path.iterdir()) == []
+
+
+def test_existing_file_kept_unless_force(tmp_path):
+    target = tmp_path / "t.tir"
+    target.write_text("keep me")
+    with pytest.raises(OutputExistsError):
+        write_mf_tir(mf61.neutral(), target)
+    assert target.read_text() == "keep me"
+    write_mf_tir(mf61.neutral(), target, force=True)
+    assert "FITTYP" in target.read_text()
