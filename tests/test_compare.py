@@ -147,3 +147,120 @@ def test_cli_writes_json_and_report(truck, tmp_path, capsys):
     # a missing tyre file
     assert main(["compare", str(a), str(tmp_path / "none.tir"), "--json", str(tmp_path / "x.json")]) == 2
     assert not (tmp_path / "x.json").exists()
+
+
+# ------------------------------------------------------------------------------ each sweep's own conditions
+CAMBER_TYRE = {**TRUCK, "a5": 0.01, "a8": 0.05, "a11": 3.0}
+
+
+def _cambered(tyre, loads, cambers_deg, noise=20.0, seed=1, amp_deg=9.75):
+    rng = np.random.default_rng(seed)
+    rows, run = [], 0
+    a = np.radians(np.arange(-amp_deg, amp_deg + 1e-9, 0.05))
+    for c in cambers_deg:
+        for fz in loads:
+            fzm = fz + rng.normal(0, 50.0, a.size)
+            fy = tyre.fy(fzm, a, math.radians(c)) + noise * rng.normal(size=a.size)
+            rows.append(pd.DataFrame({"run": run, "fz": fzm, "fy": fy, "slip_angle": a, "camber": math.radians(c)}))
+            run += 1
+    return Dataset(pd.concat(rows, ignore_index=True), kind="slip_angle", source="cambered")
+
+
+def test_models_are_evaluated_at_each_sweeps_camber():
+    """Must show: compare --data on cambered data agrees with a direct evaluation at each sweep's camber."""
+    truth = Pac89Tyre(coefficients=CAMBER_TYRE, name="truth")
+    data = _cambered(truth, [20e3, 40e3], [0.0, 2.0, 4.0])
+    other = Pac89Tyre(coefficients={**CAMBER_TYRE, "a2": 760.0}, name="other")
+    cmp = compare_tyres(truth, other, data)
+    assert len(cmp.loads) == 6
+    for lc in cmp.loads:
+        g = data.df[data.df["run"] == lc.run]
+        assert math.degrees(lc.camber) == pytest.approx(math.degrees(g["camber"].mean()), abs=1e-9)
+        # the score recomputed by hand: mu of each tyre at every bin's slip, load and camber
+        c = binned_curve(g)
+        for k, t in enumerate((truth, other)):
+            mu = -t.fy(c["fz"].to_numpy(), c["slip_angle"].to_numpy(), c["camber"].to_numpy()) / c["fz"].to_numpy()
+            want = np.mean(np.abs(mu - c["mu"].to_numpy())) / np.abs(c["mu"]).max()
+            assert lc.data["mean_abs_dmu_over_peak_vs_data"][k] == pytest.approx(want, rel=1e-12)
+            # the zero-camber evaluation (the old behaviour) would score the truth far worse on cambered sweeps
+            mu0 = -t.fy(c["fz"].to_numpy(), c["slip_angle"].to_numpy(), 0.0) / c["fz"].to_numpy()
+            zero = np.mean(np.abs(mu0 - c["mu"].to_numpy())) / np.abs(c["mu"]).max()
+            if k == 0 and abs(lc.camber) > 0.01:
+                assert lc.data["mean_abs_dmu_over_peak_vs_data"][0] < 0.5 * zero
+        assert lc.data["mean_abs_dmu_over_peak_vs_data"][0] < 0.01
+        assert lc.cornering_stiffness[0] == pytest.approx(
+            (-truth.fy(lc.fz, 1e-4, lc.camber) + truth.fy(lc.fz, -1e-4, lc.camber)) / 2e-4, rel=1e-9)
+    titles = [ax.get_title() for ax in cmp.plot_overlay() if ax.get_visible()]
+    assert [t.split("\n")[0] for t in titles] == ["camber 0.0°", "camber 2.0°", "camber 4.0°"]
+    assert not any("zero camber" in n for n in cmp.notes)
+
+
+def test_a_peak_outside_the_tested_range_is_not_reached():
+    """A soft tyre peaking near 15 deg at 40 kN: sweeps to 9.75 deg cannot show its peak."""
+    t = Pac89Tyre(coefficients={**CAMBER_TYRE, "a3": 5000.0}, name="t")
+    assert model_metrics(t, 40e3)["slip_at_peak_deg"] > 10.5
+    cmp = compare_tyres(t, t, _cambered(t, [40e3], [0.0]))
+    lc = cmp.loads[0]
+    assert lc.peak_reached == (False, False) and math.isnan(lc.peak_mu[0]) and math.isnan(lc.slip_at_peak_deg[1])
+    assert lc.peak_text(0) == "not reached within ±9.8°"
+    d = lc.to_dict()
+    assert d["peak_reached"] == [False, False] and d["max_mu_in_search"][0] > 0
+    assert any("not reached within the tested slip range" in n for n in cmp.notes)
+    doc = json.loads(json.dumps(__import__("tyrefit.commands.compare", fromlist=["_clean"])._clean(cmp.to_json())))
+    assert doc["loads"][0]["peak_mu"] == [None, None] and doc["loads"][0]["slip_at_peak_deg"] == [None, None]
+    # a tyre that peaks inside the range keeps its peak
+    m = model_metrics(t, 10e3, max_slip_deg=30)
+    assert m["peak_reached"] and 10 < m["slip_at_peak_deg"] < 12
+
+
+class _PressureTyre:
+    """A tyre of another family, through the tyre interface only: PAC89 with grip scaled by pressure."""
+
+    family = "test"
+
+    def __init__(self, coefficients, p0=2.0e5):
+        self.base, self.p0 = Pac89Tyre(coefficients=coefficients), p0
+        self.name = "pressure-aware"
+
+    def inputs(self):
+        return ("fz", "slip_angle", "camber", "pressure")
+
+    def forces(self, fz, slip_angle=0.0, slip_ratio=0.0, camber=0.0, pressure=None, speed=None):
+        k = 1.0 if pressure is None else 1.0 - 0.5 * (np.asarray(pressure) / self.p0 - 1.0)
+        return {"fy": k * self.base.fy(fz, slip_angle, camber), "fx": np.zeros_like(np.asarray(fz, float)),
+                "mz": np.zeros_like(np.asarray(fz, float))}
+
+
+def test_any_family_through_the_tyre_interface_at_each_sweeps_pressure():
+    ptyre = _PressureTyre(CAMBER_TYRE)
+    rows = []
+    a = np.radians(np.arange(-9.75, 9.76, 0.05))
+    for run, (p, fz) in enumerate([(1.8e5, 30e3), (2.2e5, 30e3)]):
+        rows.append(pd.DataFrame({"run": run, "fz": fz, "slip_angle": a, "pressure": p, "camber": 0.0,
+                                  "fy": ptyre.forces(fz, slip_angle=a, pressure=p)["fy"]}))
+    data = Dataset(pd.concat(rows, ignore_index=True), kind="slip_angle", source="pressures")
+    pac = Pac89Tyre(coefficients=CAMBER_TYRE, name="pac89")
+    cmp = compare_tyres(ptyre, pac, data)
+    for lc in cmp.loads:
+        va, vb = lc.data["mean_abs_dmu_over_peak_vs_data"]
+        assert va < 0.002 and vb > 0.02  # at the sweep's own pressure only binning remains; PAC89 cannot follow
+        assert "pressure" in lc.conditions
+    assert any("pac89 has no pressure input" in n for n in cmp.notes)
+
+
+def test_pac89_against_a_magic_formula_file(tmp_path, ref):
+    """PAC89 against the bundled PAC2002 (MF 5.x) file through ``tyrefit compare``."""
+    import tyrefit.tyres
+
+    if not hasattr(tyrefit.tyres, "read_tyre"):
+        pytest.skip("the tyre interface tyrefit.tyres.read_tyre (issue 12) is not in this tree yet")
+    mf = sorted(Path("/work/shared/reference/chrono").glob("*.tir"))
+    mf = [p for p in mf if "PAC2002" in p.read_text(errors="replace").upper()]
+    if not mf:
+        pytest.skip("no PAC2002 reference file on this machine")
+    a = tmp_path / "ref.tir"
+    ref.to_tir(a)
+    js = tmp_path / "c.json"
+    assert main(["compare", str(a), str(mf[0]), "--json", str(js)]) == 0
+    doc = json.loads(js.read_text())
+    assert all(np.isfinite(d["cornering_stiffness"][1]) and d["cornering_stiffness"][1] > 0 for d in doc["loads"])

@@ -1,6 +1,6 @@
 """``tyrefit compare A.tir B.tir [--data DATA] [--report DIR] [--json OUT.json]``.
 
-Compares two tyre files (PAC89 ``.tir`` or Chrono PAC89 JSON) load by load --
+Compares two tyre files (any family :func:`tyrefit.tyres.read_tyre` reads) load by load --
 cornering stiffness, peak friction coefficient, slip angle at the peak, mean
 |dmu|/mu_peak over 0-12 deg -- and, with ``--data``, each against measured
 slip-angle sweeps (:func:`tyrefit.compare.tyres.compare_tyres`).  JSON keys as in
@@ -42,7 +42,11 @@ def _clean(o):
 def run(args) -> int:
     """Entry point of ``tyrefit compare``."""
     from ..compare.tyres import compare_tyres
-    from ..io.tir import read_tyre
+
+    try:  # the tyre interface of every family (PAC89, MF 5.2, MF 6.1/6.2)
+        from ..tyres import read_tyre
+    except ImportError:  # pragma: no cover - before tyrefit.tyres.read_tyre existed
+        from ..io.tir import read_tyre
 
     check_outputs(args)
     ta = read_tyre(args.tyre_a)
@@ -73,8 +77,9 @@ def run(args) -> int:
     print(f"{na} vs {nb}: {len(cmp.loads)} loads; worst mean |dmu|/mu_peak {100 * s['worst_mean_abs_dmu_over_peak']:.2f} % "
           f"(agreement >= {s['min_agreement_pct']:.1f} %)")
     for lc in cmp.loads:
-        line = (f"  Fz {lc.fz:8.0f} N: C_alpha {lc.cornering_stiffness[0]:.4g} / {lc.cornering_stiffness[1]:.4g} N/rad, "
-                f"peak mu {lc.peak_mu[0]:.3f} / {lc.peak_mu[1]:.3f}, mean |dmu|/mu_peak {100 * lc.mean_abs_dmu_over_peak:.2f} %")
+        line = (f"  {lc.conditions}: C_alpha {lc.cornering_stiffness[0]:.4g} / {lc.cornering_stiffness[1]:.4g} N/rad, "
+                f"peak mu {lc.peak_text(0)} / {lc.peak_text(1)}, mean |dmu|/mu_peak "
+                f"{100 * lc.mean_abs_dmu_over_peak:.2f} %")
         if lc.data is not None:
             v = lc.data["mean_abs_dmu_over_peak_vs_data"]
             line += f"; vs data {100 * v[0]:.2f} % / {100 * v[1]:.2f} %"

@@ -11,7 +11,19 @@ For each load the comparison gives, for tyre *a* and tyre *b*:
   (*a* is the reference).
 
 With data (slip-angle sweeps, ISO-W), the loads are the data's sweeps and
-each model is also scored against the data.  The data curve of a sweep is
+each model is also scored against the data.  Both models are evaluated at
+each sweep's own conditions: its measured load (per bin), its camber, its
+pressure and its speed (for families with those inputs; PAC89 has no
+pressure or speed input, which the notes say), never at zero camber for a
+cambered sweep.  Peaks are searched only within the slip range the sweep
+tested (without data: the tyres' fitted slip-angle range where they carry
+one, else 0-30 deg); a model whose curve still rises at the end of that
+range has its peak "not reached within +/-X deg" (``peak_mu`` and
+``slip_at_peak_deg`` NaN, ``null`` in JSON, ``peak_reached`` false).
+
+Any tyre family is compared through the tyre interface: an object with
+``forces(fz, slip_angle=, slip_ratio=, camber=, pressure=, speed=) -> dict``
+(:mod:`tyrefit.tyres`) or, for older containers, ``fy(fz, slip_angle, camber)``.  The data curve of a sweep is
 its points averaged in 0.5 deg bins of slip angle (0-12 deg, either sign),
 which keeps measurement noise out of the score; each model is evaluated at
 each bin's mean slip angle and mean measured load, and
@@ -49,26 +61,62 @@ BIN_DEG = 0.5
 _PEAK_SEARCH_DEG = 30.0
 
 
-def _mu(tyre, fz, slip_angle):
+def lateral_force(tyre, fz, slip_angle, camber=0.0, pressure=None, speed=None) -> np.ndarray:
+    """Fy [N] (ISO-W) of any tyre family at load [N], slip angle [rad], camber [rad], pressure [Pa], speed [m/s].
+
+    Uses the tyre interface ``forces(...)`` when the tyre has it, else ``fy(fz, slip_angle, camber)``
+    (pressure and speed are then not inputs of the model).
+    """
+    fz = np.asarray(fz, float)
+    forces = getattr(tyre, "forces", None)
+    if callable(forces):
+        kw = {"slip_angle": slip_angle, "camber": camber}
+        if pressure is not None:
+            kw["pressure"] = pressure
+        if speed is not None:
+            kw["speed"] = speed
+        return np.asarray(forces(fz, **kw)["fy"], float)
+    return np.asarray(tyre.fy(fz, slip_angle, camber), float)
+
+
+def takes(tyre, channel: str) -> bool:
+    """Whether a tyre model has ``channel`` ('pressure', 'speed') as an input."""
+    fn = getattr(tyre, "inputs", None)
+    if fn is not None:
+        return channel in (fn() if callable(fn) else fn)
+    return callable(getattr(tyre, "forces", None)) and getattr(tyre, "family", "PAC89") != "PAC89"
+
+
+def _mu(tyre, fz, slip_angle, camber=0.0, pressure=None, speed=None):
     """-Fy/Fz of a tyre model (positive for positive ISO-W slip angles)."""
     fz = np.asarray(fz, float)
-    return -np.asarray(tyre.fy(fz, slip_angle), float) / fz
+    return -lateral_force(tyre, fz, slip_angle, camber, pressure, speed) / fz
 
 
-def model_metrics(tyre, fz: float, slip_range_deg=SLIP_RANGE_DEG) -> dict:
+def model_metrics(tyre, fz: float, slip_range_deg=SLIP_RANGE_DEG, *, camber: float = 0.0, pressure=None,
+                  speed=None, max_slip_deg: float | None = None) -> dict:
     """Cornering stiffness [N/rad], peak mu, slip at peak [deg] of a tyre model at load ``fz`` [N].
 
-    The cornering stiffness is the central difference of -Fy at +/-1e-4 rad.
+    The cornering stiffness is the central difference of -Fy at +/-1e-4 rad
+    (at ``camber`` [rad], so a camber shift does not enter it).  The peak is
+    searched over 0..``max_slip_deg`` (default 30 deg); a maximum at the end
+    of that range is not a peak: ``peak_reached`` is False and ``peak_mu``,
+    ``slip_at_peak_deg`` are NaN (``max_mu`` keeps the largest value seen).
     """
     h = 1e-4
-    cs = float((-tyre.fy(fz, h) + tyre.fy(fz, -h)) / (2 * h))
-    a = np.radians(np.arange(0.0, _PEAK_SEARCH_DEG + 1e-9, 0.01))
-    mu = _mu(tyre, np.full(a.shape, fz), a)
+    ev = dict(camber=camber, pressure=pressure, speed=speed)
+    cs = float((-lateral_force(tyre, fz, h, **ev) + lateral_force(tyre, fz, -h, **ev)) / (2 * h))
+    top = _PEAK_SEARCH_DEG if max_slip_deg is None else float(max_slip_deg)
+    a = np.radians(np.arange(0.0, top + 1e-9, 0.01))
+    mu = _mu(tyre, np.full(a.shape, fz), a, **ev)
     i = int(np.argmax(mu))
+    reached = i < len(a) - 1 - int(round(0.05 / 0.01))  # at least 0.05 deg inside the range
     lo, hi = slip_range_deg
-    w = (a >= math.radians(lo) - 1e-12) & (a <= math.radians(hi) + 1e-12)
-    return {"cornering_stiffness": cs, "peak_mu": float(mu[i]), "slip_at_peak_deg": float(np.degrees(a[i])),
-            "peak_mu_in_range": float(mu[w].max())}
+    w = (a >= math.radians(lo) - 1e-12) & (a <= math.radians(min(hi, top)) + 1e-12)
+    nan = float("nan")
+    return {"cornering_stiffness": cs, "peak_mu": float(mu[i]) if reached else nan,
+            "slip_at_peak_deg": float(np.degrees(a[i])) if reached else nan, "peak_reached": bool(reached),
+            "max_mu": float(mu[i]), "search_deg": top, "peak_mu_in_range": float(mu[w].max()) if w.any() else nan}
 
 
 def binned_curve(df: pd.DataFrame, slip_range_deg=SLIP_RANGE_DEG, bin_deg: float = BIN_DEG) -> pd.DataFrame:
@@ -83,7 +131,10 @@ def binned_curve(df: pd.DataFrame, slip_range_deg=SLIP_RANGE_DEG, bin_deg: float
     lo, hi = slip_range_deg
     keep = (np.abs(ad) >= lo) & (np.abs(ad) <= hi + 1e-9)
     b = np.floor(ad[keep] / bin_deg)
-    g = pd.DataFrame({"slip_angle": a[keep], "fz": fz[keep], "mu": mu[keep], "bin": b}).groupby("bin")
+    cols = {"slip_angle": a[keep], "fz": fz[keep], "mu": mu[keep], "bin": b}
+    if "camber" in df:
+        cols["camber"] = df["camber"].to_numpy(float)[keep]
+    g = pd.DataFrame(cols).groupby("bin")
     out = g.mean()
     out["n"] = g.size()
     return out.reset_index(drop=True)
@@ -126,6 +177,30 @@ class LoadComparison:
     mean_abs_dmu_over_peak: float
     data: dict | None = None
     run: int | None = None
+    camber: float = 0.0
+    pressure: float | None = None
+    speed: float | None = None
+    search_deg: float = _PEAK_SEARCH_DEG
+    peak_reached: tuple[bool, bool] = (True, True)
+    max_mu: tuple[float, float] = (float("nan"), float("nan"))
+
+    @property
+    def conditions(self) -> str:
+        """The sweep's conditions in display units: ``'Fz 1.11 kN, camber 2.0°, pressure 83 kPa'``."""
+        from ..io.facets import format_condition, format_load
+
+        t = [f"Fz {format_load(self.fz)}", format_condition("camber", self.camber)]
+        if self.pressure is not None and np.isfinite(self.pressure):
+            t.append(format_condition("pressure", self.pressure))
+        if self.speed is not None and np.isfinite(self.speed):
+            t.append(format_condition("speed", self.speed))
+        return ", ".join(t)
+
+    def peak_text(self, k: int) -> str:
+        """Peak of tyre ``k`` (0: a, 1: b) in words: ``'1.72 at 6.3°'`` or ``'not reached within ±9.8°'``."""
+        if self.peak_reached[k]:
+            return f"{self.peak_mu[k]:.3f} at {self.slip_at_peak_deg[k]:.1f}°"
+        return f"not reached within ±{self.search_deg:.1f}°"
 
     @property
     def agreement_pct(self) -> float:
@@ -136,7 +211,13 @@ class LoadComparison:
         d = {"fz": self.fz, "cornering_stiffness": list(self.cornering_stiffness), "peak_mu": list(self.peak_mu),
              "slip_at_peak_deg": list(self.slip_at_peak_deg),
              "mean_abs_dmu_over_peak": self.mean_abs_dmu_over_peak,
-             "agreement_pct": self.agreement_pct}
+             "agreement_pct": self.agreement_pct, "peak_reached": list(self.peak_reached),
+             "max_mu_in_search": list(self.max_mu), "peak_search_deg": self.search_deg,
+             "camber_deg": math.degrees(self.camber)}
+        if self.pressure is not None:
+            d["pressure_kpa"] = self.pressure / 1e3
+        if self.speed is not None:
+            d["speed_kmh"] = self.speed * 3.6
         if self.run is not None:
             d["run"] = self.run
         if self.data is not None:
@@ -191,12 +272,14 @@ class Comparison:
         a, b = self.names
         rows = []
         for lc in self.loads:
-            r = {"Fz [kN]": lc.fz * 1e-3, "load [kg]": lc.fz / G0,
+            r = {"Fz [kN]": lc.fz * 1e-3, "load [kg]": lc.fz / G0, "camber [deg]": math.degrees(lc.camber)}
+            if lc.pressure is not None:
+                r["pressure [kPa]"] = lc.pressure / 1e3
+            r.update({
                  f"C_alpha {a} [kN/deg]": lc.cornering_stiffness[0] * 1e-3 * math.pi / 180,
                  f"C_alpha {b} [kN/deg]": lc.cornering_stiffness[1] * 1e-3 * math.pi / 180,
-                 f"peak mu {a}": lc.peak_mu[0], f"peak mu {b}": lc.peak_mu[1],
-                 f"slip at peak {a} [deg]": lc.slip_at_peak_deg[0], f"slip at peak {b} [deg]": lc.slip_at_peak_deg[1],
-                 "mean |dmu|/mu_peak [%]": 100 * lc.mean_abs_dmu_over_peak, "agreement [%]": lc.agreement_pct}
+                 f"peak mu {a}": lc.peak_text(0), f"peak mu {b}": lc.peak_text(1),
+                 "mean |dmu|/mu_peak [%]": 100 * lc.mean_abs_dmu_over_peak, "agreement [%]": lc.agreement_pct})
             if lc.data is not None:
                 r.update({"C_alpha data [kN/deg]": lc.data["cornering_stiffness"] * 1e-3 * math.pi / 180,
                           "peak mu data": lc.data["peak_mu"],
@@ -207,54 +290,87 @@ class Comparison:
 
     # -- figures ------------------------------------------------------------------------------
     def plot_overlay(self, axes=None):
-        """mu against slip angle per load: both models (and the data)."""
-        import matplotlib.pyplot as plt
+        """mu against slip angle: both models (and the data), each at the sweep's own conditions.
 
-        n = len(self.loads)
-        if axes is None:
-            cols = min(n, 3)
-            rows = math.ceil(n / cols)
-            _, axes = plt.subplots(rows, cols, figsize=(4.3 * cols, 3.4 * rows), squeeze=False)
-        axes = np.ravel(axes)
+        With data, one panel per condition level of the data (pressure,
+        speed, camber; :func:`tyrefit.io.facets.facet_sweeps`), titled with
+        it, one colour per load; without data one panel per load.  Returns
+        the Axes array.
+        """
+        import matplotlib as mpl
+        from matplotlib.figure import Figure
+
+        from ..io.facets import facet_sweeps, format_load
+
         ta, tb = self._tyres
         a_name, b_name = self.names
         lo, hi = self.slip_range_deg
-        aa = np.radians(np.linspace(lo, hi, 241))
-        for ax, lc in zip(axes, self.loads):
-            if self._data is not None and lc.run is not None:
-                g = self._data[self._data["run"] == lc.run]
-                ax.plot(np.degrees(g["slip_angle"]), -g["fy"] / g["fz"], ".", color="0.7", ms=2, label="data")
-                c = binned_curve(g, self.slip_range_deg)
-                ax.plot(np.degrees(c["slip_angle"]), c["mu"], "ko", ms=3, label="data, 0.5° bins")
-            ax.plot(np.degrees(aa), _mu(ta, np.full(aa.shape, lc.fz), aa), "C0-", lw=1.8, label=a_name)
-            ax.plot(np.degrees(aa), _mu(tb, np.full(aa.shape, lc.fz), aa), "C3--", lw=1.8, label=b_name)
-            title = f"{lc.fz * 1e-3:.1f} kN ({lc.fz / G0:.0f} kg)"
-            if lc.data is not None:
-                d = lc.data["mean_abs_dmu_over_peak_vs_data"]
-                title += f"\nvs data: {100 * d[0]:.1f} % / {100 * d[1]:.1f} %"
+        by_run = {lc.run: lc for lc in self.loads}
+        if self._data is not None and all(lc.run is not None for lc in self.loads):
+            facets, _ = facet_sweeps(self._data[self._data["run"].isin(by_run)], ("pressure", "speed", "camber"))
+            groups = [(f.title, [by_run[r] for r in f.runs]) for f in facets]
+        else:
+            groups = [(lc.conditions, [lc]) for lc in self.loads]
+        n = len(groups)
+        if axes is None:
+            cols = min(n, 3)
+            rows = math.ceil(n / cols)
+            axes = Figure(figsize=(4.6 * cols, 3.6 * rows + 0.6)).subplots(rows, cols, squeeze=False)
+        axes = np.ravel(axes)
+        fzs = [lc.fz for lc in self.loads]
+        flo, fhi = min(fzs), max(fzs)
+        cmap = mpl.colormaps["viridis"]
+        for ax, (title, lcs) in zip(axes, groups):
+            for lc in lcs:
+                col = cmap(0.85 * (lc.fz - flo) / (fhi - flo)) if fhi > flo and len(lcs) > 1 else "k"
+                top = hi if lc.search_deg is None else min(hi, lc.search_deg)
+                ev = {"camber": lc.camber, "pressure": lc.pressure, "speed": lc.speed}
+                if self._data is not None and lc.run is not None:
+                    g = self._data[self._data["run"] == lc.run]
+                    c = binned_curve(g, self.slip_range_deg)
+                    ax.plot(np.degrees(c["slip_angle"]), c["mu"], "o", color=col, ms=3, mfc="none")
+                    top = max(top, float(np.degrees(np.abs(c["slip_angle"]).max())))
+                    aa = np.radians(np.linspace(-top, top, 241))
+                else:
+                    aa = np.radians(np.linspace(lo, top, 241))
+                fz = np.full(aa.shape, lc.fz)
+                ax.plot(np.degrees(aa), _mu(ta, fz, aa, **ev), "-", color=col, lw=1.5, label=format_load(lc.fz),
+                        gid=f"a run {lc.run}")
+                ax.plot(np.degrees(aa), _mu(tb, fz, aa, **ev), "--", color=col, lw=1.5, gid=f"b run {lc.run}")
+            if self._data is not None:
+                d = np.array([lc.data["mean_abs_dmu_over_peak_vs_data"] for lc in lcs if lc.data is not None])
+                if d.size:
+                    title += f"\nvs data (worst load): {100 * d[:, 0].max():.1f} % / {100 * d[:, 1].max():.1f} %"
             ax.set_title(title, fontsize=9)
             ax.set_xlabel("slip angle [deg]")
             ax.set_ylabel("-Fy/Fz [-]")
             ax.grid(alpha=0.3)
+            if len(lcs) > 1:
+                ax.legend(fontsize=7, title="Fz", title_fontsize=7)
         for ax in axes[n:]:
             ax.set_visible(False)
-        axes[0].legend(fontsize=7)
-        axes[0].figure.tight_layout()
+        fig = axes[0].figure
+        fig.suptitle(f"{a_name} (solid) and {b_name} (dashed), each evaluated at every sweep's own load, camber"
+                     + (", pressure and speed" if self._data is not None else "") + "; circles: data (0.5° bins)"
+                     if self._data is not None else f"{a_name} (solid) and {b_name} (dashed) at camber 0°", fontsize=10)
+        fig.tight_layout()
         return axes
 
     def plot_load_laws(self, axes=None):
-        """Cornering stiffness and peak mu against load for a, b (and data)."""
-        import matplotlib.pyplot as plt
+        """Cornering stiffness and peak mu against load for a, b at camber 0 (and the data's sweeps)."""
 
         if axes is None:
-            _, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+            from matplotlib.figure import Figure
+
+            axes = Figure(figsize=(11, 3.8)).subplots(1, 2)
         ta, tb = self._tyres
         fz = np.array([lc.fz for lc in self.loads])
         grid = np.linspace(0.5 * fz.min(), 1.1 * fz.max(), 60)
         for k, (t, name, st) in enumerate(((ta, self.names[0], "C0-"), (tb, self.names[1], "C3--"))):
-            m = [model_metrics(t, f) for f in grid]
+            reach = _default_reach(ta, tb) if self.data_source is None else max(lc.search_deg for lc in self.loads)
+            m = [model_metrics(t, f, max_slip_deg=reach) for f in grid]
             axes[0].plot(grid * 1e-3, [x["cornering_stiffness"] * 1e-3 * math.pi / 180 for x in m], st, label=name)
-            axes[1].plot(grid * 1e-3, [x["peak_mu"] for x in m], st, label=name)
+            axes[1].plot(grid * 1e-3, [x["peak_mu"] for x in m], st, label=name + " (camber 0°)")
         if self.data_source is not None:
             axes[0].plot(fz * 1e-3, [lc.data["cornering_stiffness"] * 1e-3 * math.pi / 180 for lc in self.loads],
                          "ko", label="data")
@@ -269,7 +385,6 @@ class Comparison:
 
     def report_section(self, report, title: str | None = None) -> None:
         """Append the comparison (table, agreement, overlays) to a :class:`tyrefit.io.report.Report`."""
-        import matplotlib.pyplot as plt
 
         a, b = self.names
         r = report
@@ -285,11 +400,12 @@ class Comparison:
                 f"and {s['min_agreement_with_data_pct'][1]:.1f} %.")
         r.table(self.table(), digits=4)
         fig_axes = self.plot_overlay()
-        r.figure(fig_axes[0].figure, f"Friction coefficient against slip angle per load: {a} (solid), {b} (dashed)"
-                 + (", data (grey) and its 0.5° bin means (black)" if self.data_source else "") + ".")
+        r.figure(fig_axes[0].figure, f"Friction coefficient against slip angle: {a} (solid), {b} (dashed), each "
+                 "at the sweep's own load and camber" + (", pressure and speed; data as 0.5° bin means (circles); one "
+                                                         "panel per condition level" if self.data_source else "") + ".")
         axes = self.plot_load_laws()
-        r.figure(axes[0].figure, "Cornering stiffness and peak friction coefficient against load.")
-        plt.close("all")
+        r.figure(axes[0].figure, "Cornering stiffness and peak friction coefficient against load (models at camber "
+                                 "0°, peaks within the tested slip range; data: each sweep at its own camber).")
         for n in self.notes:
             r.p(n, cls="note")
 
@@ -356,9 +472,19 @@ def compare_tyres(tyre_a, tyre_b, data=None, *, loads=None, names: tuple[str, st
         runs = [(r, g) for r, g in runs if len(binned_curve(g, slip_range_deg)) >= 3]
         if not runs:
             raise DataError(f"{source}: no sweep has data across {lo:g}-{hi:g} deg of slip angle")
-        if "camber" in df and np.ptp(df["camber"]) > math.radians(0.25):
-            notes.append("the data hold several camber angles; models are evaluated at zero camber")
-        load_list = [(float(g["fz"].mean()), r, g) for r, g in runs]
+        load_list = []
+        for r, g in runs:
+            cond = {c: (float(g[c].mean()) if c in g and g[c].notna().any() else None)
+                    for c in ("camber", "pressure", "speed")}
+            reach = float(np.degrees(np.max(np.abs(g["slip_angle"].to_numpy(float)))))
+            load_list.append((float(g["fz"].mean()), r, g, cond, reach))
+        for c in ("pressure", "speed"):
+            vals = [x[3][c] for x in load_list if x[3][c] is not None]
+            if vals and np.ptp(vals) > {"pressure": 5e3, "speed": 2 / 3.6}[c]:
+                for t, nm in ((tyre_a, names[0]), (tyre_b, names[1])):
+                    if not takes(t, c):
+                        notes.append(f"the data hold several {c} levels; {nm} has no {c} input, so it gives one "
+                                     f"curve for all of them")
     else:
         if loads is None:
             grid, how = _default_loads(tyre_a, tyre_b)
@@ -367,21 +493,28 @@ def compare_tyres(tyre_a, tyre_b, data=None, *, loads=None, names: tuple[str, st
             grid = np.atleast_1d(np.asarray(loads, float))
             if np.any(grid <= 0):
                 raise DataError("loads must be positive [N]")
-        load_list = [(float(f), None, None) for f in grid]
+        reach = _default_reach(tyre_a, tyre_b)
+        if reach is not None:
+            notes.append(f"peaks searched within the tyres' fitted slip-angle range, 0-{reach:.1f} deg")
+        load_list = [(float(f), None, None, {"camber": 0.0, "pressure": None, "speed": None}, reach) for f in grid]
     out = []
-    aa = np.radians(np.arange(lo, hi + 1e-9, 0.05))
-    for fz, run, g in load_list:
-        ma, mb = model_metrics(tyre_a, fz, slip_range_deg), model_metrics(tyre_b, fz, slip_range_deg)
-        mua, mub = _mu(tyre_a, np.full(aa.shape, fz), aa), _mu(tyre_b, np.full(aa.shape, fz), aa)
-        score = float(np.mean(np.abs(mua - mub)) / ma["peak_mu_in_range"])
+    for fz, run, g, cond, reach in load_list:
+        ev = {"camber": cond["camber"] or 0.0, "pressure": cond["pressure"], "speed": cond["speed"]}
+        ma = model_metrics(tyre_a, fz, slip_range_deg, max_slip_deg=reach, **ev)
+        mb = model_metrics(tyre_b, fz, slip_range_deg, max_slip_deg=reach, **ev)
+        top = hi if reach is None else min(hi, reach)
+        aa = np.radians(np.arange(lo, top + 1e-9, 0.05))
+        mua, mub = _mu(tyre_a, np.full(aa.shape, fz), aa, **ev), _mu(tyre_b, np.full(aa.shape, fz), aa, **ev)
+        score = float(np.mean(np.abs(mua - mub)) / np.max(mua)) if aa.size else float("nan")
         ddict = None
         if g is not None:
             dm = data_metrics(g, slip_range_deg)
             curve = binned_curve(g, slip_range_deg)
             pk = float(np.abs(curve["mu"]).max())
+            cam = curve["camber"].to_numpy() if "camber" in curve else 0.0
             vs = []
             for t in (tyre_a, tyre_b):
-                mm = _mu(t, curve["fz"].to_numpy(), curve["slip_angle"].to_numpy())
+                mm = _mu(t, curve["fz"].to_numpy(), curve["slip_angle"].to_numpy(), cam, ev["pressure"], ev["speed"])
                 vs.append(float(np.mean(np.abs(mm - curve["mu"].to_numpy())) / pk))
             ddict = {"cornering_stiffness": dm["cornering_stiffness"], "peak_mu": dm["peak_mu"],
                      "slip_at_peak_deg": dm["slip_at_peak_deg"], "peak_at_range_edge": dm["at_edge"],
@@ -390,5 +523,24 @@ def compare_tyres(tyre_a, tyre_b, data=None, *, loads=None, names: tuple[str, st
         out.append(LoadComparison(fz=fz, cornering_stiffness=(ma["cornering_stiffness"], mb["cornering_stiffness"]),
                                   peak_mu=(ma["peak_mu"], mb["peak_mu"]),
                                   slip_at_peak_deg=(ma["slip_at_peak_deg"], mb["slip_at_peak_deg"]),
-                                  mean_abs_dmu_over_peak=score, data=ddict, run=run))
+                                  mean_abs_dmu_over_peak=score, data=ddict, run=run, camber=ev["camber"],
+                                  pressure=ev["pressure"], speed=ev["speed"], search_deg=ma["search_deg"],
+                                  peak_reached=(ma["peak_reached"], mb["peak_reached"]),
+                                  max_mu=(ma["max_mu"], mb["max_mu"])))
+    for k, nm in enumerate(names):
+        miss = [lc for lc in out if not lc.peak_reached[k]]
+        if miss:
+            notes.append(f"{nm}: the peak is not reached within the tested slip range at {len(miss)} of {len(out)} "
+                         f"loads (e.g. {miss[0].conditions}: still rising at {miss[0].search_deg:.1f} deg); "
+                         "peak_mu and slip_at_peak_deg are left empty there")
     return Comparison(out, names, tuple(slip_range_deg), source, notes, (tyre_a, tyre_b), df)
+
+
+def _default_reach(ta, tb) -> float | None:
+    """Largest slip angle [deg] both tyres were fitted to (None when neither says)."""
+    r = []
+    for t in (ta, tb):
+        rng = (getattr(t, "ranges", None) or {}).get("slip_angle")
+        if rng:
+            r.append(max(abs(rng[0]), abs(rng[1])))
+    return float(np.degrees(min(r))) if r else None
