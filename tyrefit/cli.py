@@ -40,6 +40,11 @@ def _convention(p: argparse.ArgumentParser) -> None:
                    help="sign convention of the data file (sae: FSAE TTC, FZ negative); default iso")
 
 
+def _allow_unphysical(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--allow-unphysical", action="store_true",
+                   help="evaluate a tyre file even if its model is unphysical over its declared range")
+
+
 def build_parser() -> argparse.ArgumentParser:
     common = _common()
     parser = _Parser(prog="tyrefit", description="Tyre rig data to Pacejka '89 tyre models.")
@@ -65,6 +70,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--report", metavar="DIR")
     _convention(p)
 
+    p = sub.add_parser("eval", parents=[common], help="a tyre file's forces at the points of a CSV (any family)")
+    p.add_argument("tyre", metavar="TYRE")
+    p.add_argument("--points", required=True, metavar="POINTS.csv",
+                   help="fz, slip_angle and optional slip_ratio, camber, pressure, speed with unit headers")
+    p.add_argument("--out", required=True, metavar="FORCES.csv")
+    _allow_unphysical(p)
+
     p = sub.add_parser("rig", help="static-rig calibration")
     rsub = p.add_subparsers(dest="rig_command", metavar="RIG_COMMAND", parser_class=_Parser)
     rsub.required = True
@@ -82,6 +94,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--report", metavar="DIR")
     p.add_argument("--json", metavar="OUT.json")
     _convention(p)
+    _allow_unphysical(p)
 
     p = sub.add_parser("diagnose", parents=[common], help="find the physical effects the model is missing")
     p.add_argument("data", metavar="DATA")
@@ -103,6 +116,7 @@ def build_parser() -> argparse.ArgumentParser:
         s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
         s.add_argument("--json", metavar="OUT.json")
         s.add_argument("--report", metavar="DIR")
+        _allow_unphysical(s)
     s = ssub.add_parser("adhesion", parents=[common], help="EKF road-adhesion estimation (seed 001)")
     s.add_argument("--road-mu", type=float, default=0.8, metavar="MU")
     s.add_argument("--camber", type=float, default=0.0, metavar="DEG")
@@ -146,6 +160,7 @@ COMMANDS = {
     "fit": "fit",
     "rig": "rig",
     "compare": "compare",
+    "eval": "eval",
     "diagnose": "diagnose",
     "sim": "sim",
     "slip": "slip",

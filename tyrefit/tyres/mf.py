@@ -24,16 +24,13 @@ import numpy as np
 from ..errors import ModelError
 from .base import Tyre
 
-try:  # the evaluator (tyrefit.models.mf61) is written alongside this interface
-    from ..models import mf61 as _mf61
-except ImportError:  # pragma: no cover - only until the evaluator is in the tree
-    _mf61 = None
+from ..models import mf61 as _mf61
 
 __all__ = ["MFTyre", "REQUIRED_MF"]
 
 #: coefficients without which a part of an MF tyre cannot be evaluated (the others default to 0, L* to 1)
 REQUIRED_MF: dict[str, tuple[str, ...]] = {
-    "general": ("FNOMIN", "UNLOADED_RADIUS"),
+    "general": ("FNOMIN", "UNLOADED_RADIUS", "LONGVL"),
     "longitudinal": ("PCX1", "PDX1", "PKX1"),
     "lateral": ("PCY1", "PDY1", "PKY1", "PKY2"),
     "aligning": ("QBZ1", "QCZ1", "QDZ1"),
@@ -91,9 +88,6 @@ class MFTyre(Tyre):
         ``pressure`` defaults to the file's INFLPRES (else NOMPRES); ``speed``
         to LONGVL.  Points with ``fz <= 0`` give zeros.
         """
-        if _mf61 is None:  # pragma: no cover
-            raise ModelError(f"{self.name}: Magic Formula evaluation (tyrefit.models.mf61) is not available in "
-                             "this installation")
         p0 = self.params.get("INFLPRES", self.nominal_pressure)
         v0 = self.nominal_speed
         fz, sa, sr, cam = np.broadcast_arrays(*(np.asarray(x, dtype=float)
@@ -134,10 +128,8 @@ class MFTyre(Tyre):
             parts = ["longitudinal", "lateral"]
         for part in parts:
             out += [k for k in REQUIRED_MF[part] if k not in self.params]
-        if self.family == "MF61":
-            uses_pressure = any(self.params.get(k, 0.0) != 0.0 for k in self.params if k.startswith("PP"))
-            if uses_pressure and "NOMPRES" not in self.params:
-                out.append("NOMPRES")
+        if self.family == "MF61" and "NOMPRES" not in self.params:  # dpi = (p - NOMPRES)/NOMPRES (4.E2b)
+            out.append("NOMPRES")
         return out
 
     # -- checks ---------------------------------------------------------------------
@@ -212,7 +204,7 @@ class MFTyre(Tyre):
         """
         problems = [f"required coefficient {k} is missing" for k in self.missing]
         problems += self._factor_problems(n, hard=True)
-        if not problems and _mf61 is not None:
+        if not problems:
             problems += self._finite_problems(n)
         return problems
 

@@ -145,20 +145,22 @@ class Pac89Tyre(Tyre):
         """Aligning moment [N*m] (ISO-W)."""
         return pac89.aligning_moment(self.coefficients, fz, slip_angle, camber)
 
+    # A part is absent when its block is all zeros or neutral (zero slip stiffness, BCD = 0, as
+    # format_tir writes a part that was not fitted); any other block is a model and is checked.
     @property
     def has_lateral(self) -> bool:
         c = self.coefficients
-        return c["a0"] != 0.0 and (c["a1"] != 0.0 or c["a2"] != 0.0)
+        return c["a3"] != 0.0 and any(c[k] != 0.0 for k in pac89.LATERAL)
 
     @property
     def has_longitudinal(self) -> bool:
         c = self.coefficients
-        return c["b0"] != 0.0 and (c["b1"] != 0.0 or c["b2"] != 0.0)
+        return (c["b3"] != 0.0 or c["b4"] != 0.0) and any(c[k] != 0.0 for k in pac89.LONGITUDINAL)
 
     @property
     def has_aligning(self) -> bool:
         c = self.coefficients
-        return c["c0"] != 0.0 and (c["c1"] != 0.0 or c["c2"] != 0.0)
+        return (c["c3"] != 0.0 or c["c4"] != 0.0) and any(c[k] != 0.0 for k in pac89.ALIGNING)
 
     def cornering_stiffness(self, fz, camber=0.0):
         """Cornering stiffness BCD [N/rad] at load ``fz`` [N] (PAC89: a3 sin(2 atan(Fz/a4)) per degree)."""

@@ -1,0 +1,148 @@
+"""``tyrefit eval TYRE --points POINTS.csv --out FORCES.csv``: a tyre's forces at given points.
+
+Any tyre file the tool reads (PAC89 ``.tir``, MF 5.x / PAC2002, MF 6.1 / 6.2,
+Chrono PAC89 JSON; :func:`tyrefit.io.tir.read_tyre`) is evaluated at the rows
+of a CSV with unit headers through the :class:`~tyrefit.tyres.base.Tyre`
+interface, in one vectorised call.
+
+Points: ``fz`` (required), ``slip_angle``, ``slip_ratio``, ``camber``,
+``pressure``, ``speed``, any units the glossary accepts (``fz [kN]``,
+``slip_angle [deg]``, ``pressure [bar]``, ``speed [km/h]``), ISO-W signs.  A
+missing slip or camber column is 0; a missing pressure or speed is the tyre's
+nominal value (INFLPRES / NOMPRES, LONGVL).  The output repeats every input
+column as read and adds ``fx [N]``, ``fy [N]``, ``mz [N*m]`` and, where the
+model has them, ``mx [N*m]`` and ``my [N*m]`` (ISO-W, combined slip where the
+model has it).  A part the tyre does not model (a PAC89 tyre without b0..b10,
+say) is left empty, with a note.
+
+A tyre that :meth:`~tyrefit.tyres.base.Tyre.check` finds unphysical over its
+declared range is refused unless ``--allow-unphysical``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .. import nomenclature as nm
+from ..errors import ColumnError, DataError
+from ..io.outputs import check_output, write_text
+
+__all__ = ["run", "read_points", "evaluate_points"]
+
+#: point columns and their defaults ('nominal': the tyre's nominal value)
+POINT_COLUMNS = {"fz": None, "slip_angle": 0.0, "slip_ratio": 0.0, "camber": 0.0, "pressure": "nominal",
+                 "speed": "nominal"}
+#: output column -> header
+OUTPUT_HEADERS = {"fx": "fx [N]", "fy": "fy [N]", "mz": "mz [N*m]", "mx": "mx [N*m]", "my": "my [N*m]"}
+
+
+def read_points(path: str | Path):
+    """The points CSV: (SI arrays of the point columns, the table as read, headers as written).
+
+    Raises
+    ------
+    DataError
+        no ``fz`` column, no slip column, a value that is not a number, an
+        unknown unit (named by the readers).
+    """
+    from ..io.readers import _decode, _read_bytes, parse_csv
+
+    p = Path(path)
+    t = parse_csv(p, _decode(p, _read_bytes(p)))
+    si: dict[str, np.ndarray] = {}
+    for name in POINT_COLUMNS:
+        col = name
+        if name == "fz" and "fz" not in t.values and "load" in t.values:
+            col = "load"  # a load set point [kg] or [N]
+        if col not in t.values:
+            continue
+        v = t.values[col]
+        if v.dtype == object:
+            raise DataError(f"{p}: column '{t.headers[col]}' holds text; numbers are needed")
+        unit = t.units.get(col)
+        si[name] = np.asarray(nm.to_si(v, unit) if unit else v, dtype=float)
+    if "fz" not in si:
+        raise ColumnError(f"{p}: no 'fz [N]' column; the points need the normal load (accepted: fz, load with a "
+                          "force or mass unit)")
+    if "slip_angle" not in si and "slip_ratio" not in si:
+        raise ColumnError(f"{p}: no 'slip_angle [deg]' or 'slip_ratio [-]' column; give the slip of each point")
+    bad = ~np.isfinite(si["fz"])
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise DataError(f"{p}: line {t.lines[i]}, column '{t.headers.get('fz', 'fz')}': {si['fz'][i]!r} is not a "
+                        "finite load")
+    return si, t
+
+
+def evaluate_points(tyre, si: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], list[str]]:
+    """Forces at the points (one vectorised call) and notes for the user."""
+    notes: list[str] = []
+    kw = {k: si.get(k, d if d != "nominal" else None) for k, d in POINT_COLUMNS.items()}
+    if tyre.family == "PAC89":
+        for k in ("pressure", "speed"):
+            if k in si:
+                notes.append(f"PAC89 has no {k} dependence: the {k} column does not change the forces")
+    res = tyre.forces(kw["fz"], slip_angle=kw["slip_angle"], slip_ratio=kw["slip_ratio"], camber=kw["camber"],
+                      pressure=kw["pressure"], speed=kw["speed"])
+    for part, key in (("longitudinal", "fx"), ("lateral", "fy"), ("aligning", "mz")):
+        if not getattr(tyre, f"has_{part}"):
+            notes.append(f"the tyre has no {part} model: '{OUTPUT_HEADERS[key]}' is left empty")
+    if not tyre.combined and "slip_angle" in si and "slip_ratio" in si and \
+            np.any((si["slip_angle"] != 0) & (si["slip_ratio"] != 0)):
+        notes.append(f"{tyre.family} has no combined slip: Fx depends on the slip ratio only, Fy and Mz on the slip "
+                     "angle only")
+    v = tyre.validity()
+    for k in ("fz", "slip_angle", "slip_ratio", "camber"):
+        if k in si and k in v:
+            lo, hi = v[k]
+            x = si[k]
+            tol = 1e-9 * max(abs(lo), abs(hi), 1.0)
+            out = int(np.sum((x < lo - tol) | (x > hi + tol)))
+            if out and (k in getattr(tyre, "ranges", {}) or k == "fz"):
+                notes.append(f"{out} of {x.size} points have {k} outside the tyre's range "
+                             f"{_display(k, lo)}..{_display(k, hi)} (extrapolated)")
+    return res, notes
+
+
+def _display(k: str, x: float) -> str:
+    if k in ("slip_angle", "camber"):
+        return f"{np.degrees(x):.3g} deg"
+    if k == "fz":
+        return f"{x:.0f} N"
+    return f"{x:.3g}"
+
+
+def run(args) -> int:
+    """Entry point of ``tyrefit eval``."""
+    from ..io.tir import read_tyre
+    from ..tyres.base import require_physical
+
+    out = Path(args.out)
+    check_output(out, args.force)
+    for src in (args.tyre, args.points):
+        if out.resolve() == Path(src).resolve():
+            raise DataError(f"--out {out}: the output is an input file; choose another name")
+    tyre = read_tyre(args.tyre)
+    problems = require_physical(tyre, str(args.tyre), allow_unphysical=getattr(args, "allow_unphysical", False))
+    si, table = read_points(args.points)
+    res, notes = evaluate_points(tyre, si)
+    cols: dict[str, object] = {}
+    for name, values in table.values.items():
+        cols[table.headers[name]] = values
+    for k in tyre.outputs:
+        if k in res:
+            cols[OUTPUT_HEADERS[k]] = np.asarray(res[k], dtype=float)
+    df = pd.DataFrame(cols)
+    write_text(out, df.to_csv(index=False, lineterminator="\n", float_format="%.10g"), force=args.force)
+    print(f"wrote {out}: {len(df)} points, {tyre.family} tyre {tyre.name!r} "
+          f"({', '.join(OUTPUT_HEADERS[k] for k in tyre.outputs if k in res)})")
+    for prob in problems:
+        print(f"  warning (--allow-unphysical): {prob}")
+    for w in tyre.warnings():
+        print(f"  warning: {w}")
+    for n in notes:
+        print(f"  note: {n}")
+    return 0
