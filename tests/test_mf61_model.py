@@ -273,3 +273,18 @@ def test_mf52_matches_mfeval(tyre):
     r61 = mf61.forces(dict(p, NOMPRES=220000.0), ref["fz_N"], ref["slip_ratio"], ref["slip_angle_rad"],
                       ref["camber_rad"], None, ref["speed_mps"], version="6.1")
     assert np.abs(r61["fy"] - ref["fy_N"]).max() > 0.05 * np.abs(ref["fy_N"]).max()
+
+
+def test_factors_are_the_curve_properties():
+    p = _symmetric(PEX4=0.2, PEY3=0.1)
+    fz = np.array([2000.0, 4000.0, 7000.0])
+    f = mf61.factors(p, fz)
+    dfz = (fz - 4000.0) / 4000.0
+    np.testing.assert_allclose(f["dx"], (1.2 - 0.1 * dfz) * fz)
+    np.testing.assert_allclose(f["ex_drive"], (0.3) * (1 - 0.2))
+    np.testing.assert_allclose(f["ex_brake"], (0.3) * (1 + 0.2))
+    np.testing.assert_allclose(f["ey_pos"], (-0.3 - 0.5 * dfz) * (1 - 0.1))
+    h = 1e-7   # the stiffnesses are the slopes of the curves at zero slip
+    np.testing.assert_allclose(f["kx"], (mf61.fx0(p, fz, h) - mf61.fx0(p, fz, -h)) / (2 * h), rtol=1e-6)
+    np.testing.assert_allclose(f["ky"], (mf61.fy0(p, fz, h) - mf61.fy0(p, fz, -h)) / (2 * h), rtol=1e-6)
+    assert f["cx"].shape == fz.shape and np.all(f["cy"] == 1.4)

@@ -141,3 +141,20 @@ def test_existing_file_kept_unless_force(tmp_path):
     assert target.read_text() == "keep me"
     write_mf_tir(mf61.neutral(), target, force=True)
     assert "FITTYP" in target.read_text()
+
+
+def test_round_trip_through_the_project_reader(tmp_path):
+    """write_mf_tir -> tyrefit.io.tir.read_tyre -> MFTyre.forces: identical forces and moments."""
+    from tyrefit.io.tir import read_tyre
+
+    p = _mfeval_example()
+    path = write_mf_tir(p, tmp_path / "t.tir", header=["round trip"], not_fitted=["my"])
+    tyre = read_tyre(path)
+    assert tyre.family == "MF61"
+    a = np.radians(np.linspace(-15, 15, 13))
+    k = np.linspace(-0.4, 0.4, 9)[:, None]
+    fz = np.array([2000.0, 6752.0, 9000.0])[:, None, None]
+    got = tyre.forces(fz, slip_angle=a, slip_ratio=k, camber=0.05, pressure=300000.0, speed=12.0)
+    want = mf61.forces(p, fz, k, a, 0.05, 300000.0, 12.0)
+    for ch in ("fx", "fy", "mz", "mx", "my"):
+        np.testing.assert_array_equal(got[ch], want[ch])

@@ -125,6 +125,7 @@ __all__ = [
     "fy0",
     "mz0",
     "forces",
+    "factors",
     "clip_to_ranges",
 ]
 
@@ -390,8 +391,8 @@ def _basic(c, v52, fz, kappa, alpha, gamma, pressure, speed) -> _Basic:
     return b
 
 
-def _fx0_parts(c, b: _Basic):
-    """Fx0 and its factors (4.E9)-(4.E18)."""
+def _fx0_parts(c, b: _Basic, e_sign=None):
+    """Fx0 and its factors (4.E9)-(4.E18); ``e_sign`` = +-1 gives Ex for that slip sign, unlimited."""
     fz, dfz, dpi = b.fz, b.dfz, b.dpi
     cx = c["PCX1"] * c["LCX"]                                                          # (4.E11)
     if b.v52:
@@ -407,14 +408,17 @@ def _fx0_parts(c, b: _Basic):
     shx = (c["PHX1"] + c["PHX2"] * dfz) * c["LHX"] * b.red                             # (4.E17)
     svx = fz * (c["PVX1"] + c["PVX2"] * dfz) * c["LVX"] * b.lmux_p * b.red             # (4.E18)
     kx = b.kappa + shx                                                                 # (4.E10)
-    ex = np.minimum((c["PEX1"] + c["PEX2"] * dfz + c["PEX3"] * dfz ** 2)
-                    * (1.0 - c["PEX4"] * np.sign(kx)) * c["LEX"], 1.0)                 # (4.E14)
-    fx0 = _mf(bx, cx, dx, ex, kx) + svx                                                # (4.E9)
+    ex = ((c["PEX1"] + c["PEX2"] * dfz + c["PEX3"] * dfz ** 2)
+          * (1.0 - c["PEX4"] * (np.sign(kx) if e_sign is None else e_sign)) * c["LEX"])  # (4.E14)
+    if e_sign is not None:
+        return dict(cx=cx, mux=mux, dx=dx, kx=kxk, bx=bx, ex=ex, shx=shx, svx=svx)
+    fx0 = _mf(bx, cx, dx, np.minimum(ex, 1.0), kx) + svx                               # (4.E9)
     return fx0, mux, kxk
 
 
-def _fy0_parts(c, b: _Basic, zero_camber: bool = False):
-    """Fy0 and its factors (4.E19)-(4.E30); ``zero_camber`` gives Fy0 at gamma = 0 (used by Mz)."""
+def _fy0_parts(c, b: _Basic, zero_camber: bool = False, e_sign=None):
+    """Fy0 and its factors (4.E19)-(4.E30); ``zero_camber`` gives Fy0 at gamma = 0 (used by Mz);
+    ``e_sign`` = +-1 gives Ey for that sign of alpha_y, unlimited."""
     fz, dfz, dpi, fz0p = b.fz, b.dfz, b.dpi, b.fz0p
     cy = c["PCY1"] * c["LCY"]                                                          # (4.E21)
     if b.v52:
@@ -427,8 +431,8 @@ def _fy0_parts(c, b: _Basic, zero_camber: bool = False):
         svy = fz * ((c["PVY1"] + c["PVY2"] * dfz) * c["LVY"] + (c["PVY3"] + c["PVY4"] * dfz) * gy) * b.lmuy_p
         shy, svy = shy * b.red, svy * b.red
         ay = b.astar + shy
-        ey = np.minimum((c["PEY1"] + c["PEY2"] * dfz) * (1.0 - (c["PEY3"] + c["PEY4"] * gy) * np.sign(ay))
-                        * c["LEY"], 1.0)
+        sg = np.sign(ay) if e_sign is None else e_sign
+        ey = (c["PEY1"] + c["PEY2"] * dfz) * (1.0 - (c["PEY3"] + c["PEY4"] * gy) * sg) * c["LEY"]
     else:
         gs = 0.0 * b.gstar if zero_camber else b.gstar
         muy = ((c["PDY1"] + c["PDY2"] * dfz) * (1.0 + c["PPY3"] * dpi + c["PPY4"] * dpi ** 2)
@@ -444,12 +448,14 @@ def _fy0_parts(c, b: _Basic, zero_camber: bool = False):
         svy = fz * (c["PVY1"] + c["PVY2"] * dfz) * c["LVY"] * b.lmuy_p + svyg          # (4.E29)
         shy, svy = shy * b.red, svy * b.red
         ay = b.astar + shy                                                             # (4.E20)
-        ey = np.minimum((c["PEY1"] + c["PEY2"] * dfz)
-                        * (1.0 + c["PEY5"] * gs ** 2 - (c["PEY3"] + c["PEY4"] * gs) * np.sign(ay))
-                        * c["LEY"], 1.0)                                               # (4.E24)
+        sg = np.sign(ay) if e_sign is None else e_sign
+        ey = ((c["PEY1"] + c["PEY2"] * dfz) * (1.0 + c["PEY5"] * gs ** 2 - (c["PEY3"] + c["PEY4"] * gs) * sg)
+              * c["LEY"])                                                              # (4.E24)
     dy = muy * fz                                                                      # (4.E22), zeta2 = 1
     by = kya / (cy * dy + EPSILON * _sgn(dy))                                          # (4.E26)
-    fy0 = _mf(by, cy, dy, ey, ay) + svy                                                # (4.E19)
+    if e_sign is not None:
+        return dict(cy=cy, muy=muy, dy=dy, ky=kya, by=by, ey=ey, shy=shy, svy=svy)
+    fy0 = _mf(by, cy, dy, np.minimum(ey, 1.0), ay) + svy                               # (4.E19)
     return dict(fy0=fy0, muy=muy, kya=kya, shy=shy, svy=svy, by=by, cy=cy)
 
 
@@ -672,6 +678,27 @@ def forces(p: Mapping, fz, slip_ratio=0.0, slip_angle=0.0, camber=0.0, pressure=
     out = {"fx": fx, "fy": fy, "mz": mz, "mx": _mx(c, b, fy), "my": _my(c, b, fx, pressure)}
     return {k: np.broadcast_to(np.asarray(v, dtype=float), shape).copy() if np.shape(v) != shape
             else np.asarray(v, dtype=float) for k, v in out.items()}
+
+
+def factors(p: Mapping, fz, camber=0.0, pressure=None, speed=None, *, version=None) -> dict[str, np.ndarray]:
+    """The Magic Formula factors at zero slip, for checks of a parameter set over its ranges.
+
+    Returns ``cx``, ``mux``, ``dx`` [N], ``kx`` [N] (slip stiffness dFx0/dkappa), ``bx``,
+    ``ex_drive`` / ``ex_brake`` (Ex for kappa > 0 / < 0, *before* the E <= 1 limit) and the
+    lateral ``cy``, ``muy``, ``dy`` [N], ``ky`` [N/rad] (cornering stiffness), ``by``,
+    ``ey_pos`` / ``ey_neg`` (Ey for alpha_y > 0 / < 0, unlimited), broadcast over the inputs.
+    The physical conditions of Pacejka (2012) sec. 4.3.2 are Cx > 0, Dx > 0 (mux > 0), Kx > 0,
+    Ex <= 1 (4.E11-4.E15) and Cy > 0, Dy > 0, Ey <= 1 (4.E21-4.E24), Ky of one sign (its sign
+    is the file's convention: < 0 when Fy < 0 for alpha > 0).
+    """
+    c, b = _prepare(p, version, fz, 0.0, 0.0, camber, pressure, speed)
+    xp, xn = _fx0_parts(c, b, e_sign=1.0), _fx0_parts(c, b, e_sign=-1.0)
+    yp, yn = _fy0_parts(c, b, e_sign=1.0), _fy0_parts(c, b, e_sign=-1.0)
+    shape = np.broadcast(b.fz, b.gamma, np.asarray(0.0 if pressure is None else pressure)).shape
+    out = {"cx": xp["cx"], "mux": xp["mux"], "dx": xp["dx"], "kx": xp["kx"], "bx": xp["bx"],
+           "ex_drive": xp["ex"], "ex_brake": xn["ex"], "cy": yp["cy"], "muy": yp["muy"], "dy": yp["dy"],
+           "ky": yp["ky"], "by": yp["by"], "ey_pos": yp["ey"], "ey_neg": yn["ey"]}
+    return {k: np.broadcast_to(np.asarray(v, dtype=float), shape).copy() for k, v in out.items()}
 
 
 def clip_to_ranges(p: Mapping, fz, slip_ratio=0.0, slip_angle=0.0, camber=0.0, pressure=None):
