@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from tyrefit.models import mf61
@@ -288,3 +289,30 @@ def test_factors_are_the_curve_properties():
     np.testing.assert_allclose(f["kx"], (mf61.fx0(p, fz, h) - mf61.fx0(p, fz, -h)) / (2 * h), rtol=1e-6)
     np.testing.assert_allclose(f["ky"], (mf61.fy0(p, fz, h) - mf61.fy0(p, fz, -h)) / (2 * h), rtol=1e-6)
     assert f["cx"].shape == fz.shape and np.all(f["cy"] == 1.4)
+
+
+def test_tyrefit_eval_matches_mfeval(tmp_path):
+    """`tyrefit eval` end to end (CSV with unit headers in, CSV out) on MFeval's MF 6.1 example
+    tyre at MFeval's reference points (source: tests/data/mfeval_REFERENCE.md): every channel
+    within 0.1 % of its peak for pure and combined slip, camber, pressure, speed and low speed."""
+    from tyrefit.cli import main
+
+    ref = _mfeval_reference()
+    ref = ref[ref["variant"] == "file"]
+    points = tmp_path / "points.csv"
+    lines = ["fz [N],slip_ratio [-],slip_angle [deg],camber [deg],pressure [kPa],speed [km/h]"]
+    lines += [",".join(repr(float(v)) for v in (r["fz_N"], r["slip_ratio"], np.degrees(r["slip_angle_rad"]),
+                                                np.degrees(r["camber_rad"]), r["pressure_Pa"] / 1e3,
+                                                r["speed_mps"] * 3.6)) for r in ref]
+    points.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "forces.csv"
+    assert main(["eval", str(DATA / "mfeval_MagicFormula61_Paramerters.tir"), "--points", str(points),
+                 "--out", str(out)]) == 0
+    got = pd.read_csv(out, comment="#")
+    names = {n.split(" [")[0]: n for n in got.columns}
+    for ch, col in (("fx", "fx_N"), ("fy", "fy_N"), ("mx", "mx_Nm"), ("my", "my_Nm"), ("mz", "mz_Nm")):
+        peak = np.abs(ref[col]).max()
+        for case in set(ref["case"]):
+            m = ref["case"] == case
+            err = np.abs(got[names[ch]].to_numpy()[m] - ref[col][m]).max() / peak
+            assert err < 1e-3, f"eval/{case}/{ch}: {100 * err:.3g} % of peak"
