@@ -215,3 +215,26 @@ def test_fit_noise_floor_is_diagnose_definition(fsae45):
     want, _ = noise_floor(sd.inputs.slip_angle, sd.fy, sd.sweep, fz=sd.inputs.fz)
     assert res.stats["lateral"]["noise_floor"] == pytest.approx(want, rel=1e-9)
     assert res.stats["lateral"]["point_scatter"] != pytest.approx(want, rel=1e-3)  # the other estimate, named apart
+
+
+def test_inspect_drive_brake_record_read_as_sae_does_not_ask_for_sae(tmp_path, capsys):
+    """A drive/brake record (slip angle held per sweep) read with --convention sae: no sign complaint."""
+    from tyrefit.cli import main
+
+    rng = np.random.default_rng(5)
+    rows = []
+    for run, (sa, fz) in enumerate([(0.0, 700.0), (0.0, 1100.0), (-3.0, 700.0), (-3.0, 1100.0), (3.0, 900.0)]):
+        s = np.linspace(-0.15, 0.15, 80)
+        fx = pac89.longitudinal_force(EXAMPLE, fz, s)
+        # SAE signs; Fy changes with slip ratio while the rig's slip angle creeps with it (compliance), so the
+        # within-sweep slope of Fy against slip angle is that creep, not the cornering stiffness
+        fy = 300.0 * sa + 200.0 * s / 0.15 + rng.normal(0, 10, s.size)
+        rows.append(pd.DataFrame({"run": run, "SA [deg]": sa + 0.3 * s / 0.15 + rng.normal(0, 0.02, s.size),
+                                  "SL [-]": s,
+                                  "FZ [N]": -fz, "FX [N]": fx, "FY [N]": fy}))
+    p = tmp_path / "db.csv"
+    pd.concat(rows).rename(columns={"SA [deg]": "slip_angle [deg]", "SL [-]": "slip_ratio [-]", "FZ [N]": "fz [N]",
+                                    "FX [N]": "fx [N]", "FY [N]": "fy [N]"}).to_csv(p, index=False)
+    assert main(["inspect", str(p), "--convention", "sae"]) == 0
+    out = capsys.readouterr().out
+    assert "slip_ratio test" in out and "(--convention sae)?" not in out and "not ISO-W" not in out

@@ -62,12 +62,15 @@ def inspect_data(ds: Dataset) -> dict[str, Any]:
         if c != "run" and pd.api.types.is_numeric_dtype(df[c]) and len(df):
             ranges[c] = [float(np.nanmin(df[c])), float(np.nanmax(df[c]))]
     out["ranges"] = ranges
-    slope = lateral_slope(ds)
+    # the sign check needs slip-angle sweeps: in drive/brake sweeps the slip angle is held, and the slope of
+    # Fy against its noise means nothing
+    slope = lateral_slope(ds) if ds.kind == "slip_angle" else None
     if slope is not None:
         out["cornering_slope"] = slope
         out["sign"] = ("positive slip angle gives negative lateral force (ISO-W)" if slope < 0 else
-                       "positive slip angle gives POSITIVE lateral force: not ISO-W; is the file in another sign "
-                       "convention (--convention sae)?")
+                       "positive slip angle gives POSITIVE lateral force: not ISO-W; " +
+                       ("is the file in another sign convention (--convention sae)?" if ds.convention != "sae" else
+                        "the file was read as SAE (--convention sae) - is it in fact ISO-W already?"))
     for key in ("info", "header", "constants", "segmentation", "phase"):
         if key in ds.meta:
             out[key] = ds.meta[key]
