@@ -316,3 +316,13 @@ def test_tyrefit_eval_matches_mfeval(tmp_path):
             m = ref["case"] == case
             err = np.abs(got[names[ch]].to_numpy()[m] - ref[col][m]).max() / peak
             assert err < 1e-3, f"eval/{case}/{ch}: {100 * err:.3g} % of peak"
+
+
+def test_array_valued_coefficients_broadcast():
+    p = _symmetric()
+    pdy1 = np.array([0.9, 1.1, 1.3])[:, None]
+    a = np.radians(np.linspace(-10, 10, 7))
+    r = mf61.forces(dict(p, PDY1=pdy1), 4000.0, 0.05, a, 0.02)
+    assert r["fy"].shape == (3, 7)
+    for i, v in enumerate(pdy1[:, 0]):
+        np.testing.assert_allclose(r["fy"][i], mf61.forces(dict(p, PDY1=v), 4000.0, 0.05, a, 0.02)["fy"])

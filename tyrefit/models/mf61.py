@@ -260,13 +260,20 @@ def coefficients(p: Mapping) -> dict[str, float]:
 
     Keys are matched case-insensitively; a missing scaling factor ``L*`` is 1
     (``LMUV`` 0), any other missing coefficient 0; non-numeric entries
-    (``TYRESIDE = 'LEFT'``) are ignored.
+    (``TYRESIDE = 'LEFT'``) are ignored.  A coefficient may be an array (say, a
+    set of candidate values for a fit); it broadcasts with the inputs
+    (``FNOMIN``, ``NOMPRES``, ``LONGVL`` and ``VXLOW`` must stay scalars).
     """
     up: dict[str, float] = {}
     for k, v in p.items():
         try:
             up[str(k).upper()] = float(v)
         except (TypeError, ValueError):
+            if isinstance(v, (np.ndarray, list, tuple)):   # array-valued coefficients broadcast
+                try:
+                    up[str(k).upper()] = np.asarray(v, dtype=float)
+                except (TypeError, ValueError):
+                    pass
             continue
     c = {}
     for n in _NAMES:
@@ -615,7 +622,7 @@ def mz0(p: Mapping, fz, slip_angle=0.0, camber=0.0, pressure=None, speed=None, *
     """Pure-slip aligning moment Mz0 [N*m] (4.E31): -t0 Fy0(gamma = 0) + Mzr0."""
     c, b = _prepare(p, version, fz, 0.0, slip_angle, camber, pressure, speed)
     fyp = _fy0_parts(c, b)
-    fy_g0 = _fy0_parts(c, b, zero_camber=True)["fy0"]
+    fy_g0 = fyp["fy0"] if not np.any(b.gstar) else _fy0_parts(c, b, zero_camber=True)["fy0"]
     mzp = _mz_parts(c, b, fyp)
     out, _, _ = _mz(c, b, mzp, fy_g0, 0.0, 0.0, fyp["fy0"])
     return np.asarray(out)
@@ -671,11 +678,13 @@ def forces(p: Mapping, fz, slip_ratio=0.0, slip_angle=0.0, camber=0.0, pressure=
         _, svyk0 = _gyk(c, b, _fy0_parts(c, b, zero_camber=True)["muy"])
         fy_prime = fy - svyk0
     else:
-        fy_prime = gyk * _fy0_parts(c, b, zero_camber=True)["fy0"]                     # (4.E74)
+        fy_g0 = fyp["fy0"] if not np.any(b.gstar) else _fy0_parts(c, b, zero_camber=True)["fy0"]
+        fy_prime = gyk * fy_g0                                                         # (4.E74)
     mz, _, _ = _mz(c, b, mzp, fy_prime, kxk, fx, fy)
     shape = np.broadcast(b.fz, b.kappa, b.alpha, b.gamma, b.vcx,
                          np.asarray(0.0 if pressure is None else pressure)).shape
     out = {"fx": fx, "fy": fy, "mz": mz, "mx": _mx(c, b, fy), "my": _my(c, b, fx, pressure)}
+    shape = np.broadcast_shapes(shape, *(np.shape(v) for v in out.values()))
     return {k: np.broadcast_to(np.asarray(v, dtype=float), shape).copy() if np.shape(v) != shape
             else np.asarray(v, dtype=float) for k, v in out.items()}
 
@@ -698,6 +707,7 @@ def factors(p: Mapping, fz, camber=0.0, pressure=None, speed=None, *, version=No
     out = {"cx": xp["cx"], "mux": xp["mux"], "dx": xp["dx"], "kx": xp["kx"], "bx": xp["bx"],
            "ex_drive": xp["ex"], "ex_brake": xn["ex"], "cy": yp["cy"], "muy": yp["muy"], "dy": yp["dy"],
            "ky": yp["ky"], "by": yp["by"], "ey_pos": yp["ey"], "ey_neg": yn["ey"]}
+    shape = np.broadcast_shapes(shape, *(np.shape(v) for v in out.values()))
     return {k: np.broadcast_to(np.asarray(v, dtype=float), shape).copy() for k, v in out.items()}
 
 
