@@ -85,19 +85,17 @@ def plot_waterfall(diagnosis, ax=None):
     return ax
 
 
-def facets(data, max_facets: int = 6) -> list[tuple[int, int | None]]:
-    """(camber level, pressure level) pairs to show: all when few, else extremes and the middle."""
-    nc = len(data.levels["camber"])
-    npr = len(data.levels.get("pressure", [0]))
+def facets(data, max_facets: int | None = None) -> list[tuple[int, int | None]]:
+    """(camber level, pressure level) pairs to show: every pair present in the data, pressure-major.
 
-    def pick(n, k):
-        if n <= k:
-            return list(range(n))
-        return [0, n - 1] if k == 2 else sorted({0, n // 2, n - 1})
-
-    cs = pick(nc, 3 if npr > 1 else max_facets)
-    ps = pick(npr, 2 if nc > 1 else max_facets)
-    return [(c, p if "pressure" in data.levels else None) for p in ps for c in cs][:max_facets]
+    No level is dropped (a report that hides a pressure hides where the model fails); ``max_facets`` is
+    kept for callers and ignored.
+    """
+    cam = np.asarray(data.level_index["camber"])
+    if "pressure" in data.levels:
+        pr = np.asarray(data.level_index["pressure"])
+        return [(int(c), int(p)) for p, c in sorted(set(zip(pr.tolist(), cam.tolist())))]
+    return [(int(c), None) for c in sorted(set(cam.tolist()))]
 
 
 def _facet_mask(data, c, p):
