@@ -22,6 +22,7 @@ def main(out_dir: str | Path = "reports/fit_truck") -> dict:
     tir = out / "tyre_a.tir"
     run_checked(["fit", str(data_path("truck", "tyre_a_dynamic.csv")),
                     "--vertical", str(data_path("truck", "tyre_a_vertical.csv")),
+                    "--size", "385/65R22.5", "--rated-load", str(4250 * 9.80665),
                     "--cost", "l1", "--out", str(tir), "--json", str(out / "tyre_a_chrono.json"),
                     "--report", str(out), "--force"])
     tyre = read_tir(tir)

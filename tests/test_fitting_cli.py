@@ -23,7 +23,8 @@ def lateral_csv(tmp_path_factory):
 
 def test_fit_writes_tir_json_and_report(lateral_csv, tmp_path, capsys):
     out, js, rep = tmp_path / "t.tir", tmp_path / "t.json", tmp_path / "rep"
-    assert main(["fit", str(lateral_csv), "--out", str(out), "--json", str(js), "--report", str(rep)]) == 0
+    assert main(["fit", str(lateral_csv), "--out", str(out), "--json", str(js), "--report", str(rep),
+                 "--size", "245/45R17", "--rated-load", "4000"]) == 0
     text = capsys.readouterr().out
     assert "RMSE" in text and str(out) in text
     t = read_tir(out)

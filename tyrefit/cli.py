@@ -60,7 +60,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--effects", metavar="E1,E2", help="fit the diagnose start model plus these effects")
     p.add_argument("--by", choices=("pressure", "camber", "speed"),
                    help="one tyre per level of this condition (TYRE_<level>.tir) and a summary table")
-    p.add_argument("--rated-load", type=float, metavar="NEWTONS", help="rated load for the 'overload' effect [N]")
+    p.add_argument("--rated-load", type=float, metavar="NEWTONS",
+                   help="rated load [N]: FNOMIN of the tyre, the 'overload' effect, stiffness estimates")
+    p.add_argument("--size", metavar="SIZE", help="tyre size, e.g. 385/65R22.5 or 205/55R16: unloaded radius, width, "
+                                                  "aspect ratio, and estimates of mass, inertia and damping")
     p.add_argument("--cost", choices=("l1", "l2"), default="l2",
                    help="l1: sum of absolute errors (Komana et al. Eq. 5); l2: ordinary least squares (default)")
     p.add_argument("--static-part", choices=("peak", "sliding"), default="peak",

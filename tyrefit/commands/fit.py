@@ -90,6 +90,7 @@ def fit_file(args, ds=None):
     from ..io.readers import check_fittable
 
     notes: list[str] = []
+    size = _size_and_load(args)
     if ds is None:
         ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
     sfi = None
@@ -138,8 +139,24 @@ def fit_file(args, ds=None):
         result = fit_pac89(data, cost=args.cost, tyre_info=info, fixed=fixed)
     if sfi is not None and hasattr(sfi, "apply_to"):
         sfi.apply_to(result.tyre)
+    from ..tyres.size import complete_design
+
+    notes += [n for n in complete_design(result.tyre, size, getattr(args, "rated_load", None))
+              if "ESTIMATED" in n or n.startswith("no tyre size")]
     result.notes.extend(n for n in notes if n not in result.notes)
     return result, extras
+
+
+def _size_and_load(args):
+    """Validate ``--rated-load`` (finite, > 0) and parse ``--size``; the :class:`TyreSize` or None."""
+    import math as _math
+
+    from ..tyres.size import parse_size
+
+    rl = getattr(args, "rated_load", None)
+    if rl is not None and not (_math.isfinite(rl) and rl > 0):
+        raise DataError(f"--rated-load {rl!r}: the rated load must be a positive, finite force in N")
+    return parse_size(args.size) if getattr(args, "size", None) else None
 
 
 def _effects_split(effects):
@@ -215,6 +232,10 @@ def run(args) -> int:
     if getattr(args, "by", None):
         return _run_by(args, out)
     result, extras = fit_file(args)
+    if getattr(args, "json", None):
+        from ..io.chrono_json import chrono_dict
+
+        chrono_dict(result.tyre)  # refuses, before anything is written, a JSON Chrono could not load
     result.tyre.to_tir(out, force=args.force)
     if getattr(args, "json", None):
         result.tyre.to_chrono_json(args.json, force=args.force)

@@ -4,7 +4,18 @@ Layout of ``shared/reference/chrono/HMMWV_Pac89Tire.json``: SI design
 parameters, lowercase coefficients in "Lateral/Longitudinal/Aligning
 Coefficients", an optional nonlinear "Vertical Curve Data" table of
 (deflection [m], force [N]).  Chrono's files carry ``//`` comments, which are
-stripped before parsing.
+stripped before parsing; a UTF-8 byte-order mark is accepted.
+
+What Chrono reads unconditionally (projectchrono/chrono @ 17a9098167,
+``src/chrono_vehicle/wheeled_vehicle/tire/Pac89Tire.cpp``, ``Pac89Tire::Create``):
+``Mass``, ``Inertia`` (3 values), and in "Design Parameters" ``Unloaded Radius``,
+``Width``, ``Lateral Stiffness``, ``Vertical Stiffness``, ``Vertical Damping``,
+``Rolling Resistance``; each coefficient block present must give every
+coefficient (a0..a13, b0..b10, c0..c17).  :func:`chrono_dict` writes all of
+them or refuses (:class:`~tyrefit.errors.ModelError` naming what is missing);
+a part without a model is written as its neutral block
+(:data:`tyrefit.io.tir.NEUTRAL_BLOCKS`), finite in Chrono's equations, and
+said "not fitted" in ``Notes`` with every estimated design value.
 """
 
 from __future__ import annotations
@@ -15,7 +26,7 @@ import os
 import re
 from pathlib import Path
 
-from ..errors import FormatError
+from ..errors import FormatError, ModelError
 from ..models import pac89
 from ..tyres.pac89 import Pac89Tyre
 from .outputs import write_text
@@ -91,8 +102,18 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
         if not isinstance(curve, list) or not all(isinstance(r, list) and len(r) == 2 for r in curve):
             raise FormatError(f"{p}: 'Vertical Curve Data' must be a list of [deflection (m), force (N)] pairs")
         curve = [(_finite(a, p, "Vertical Curve Data"), _finite(b, p, "Vertical Curve Data")) for a, b in curve]
+    mass = doc.get("Mass")
+    mass = _finite(mass, p, "Mass") if mass is not None else None
+    inertia = doc.get("Inertia")
+    if inertia is not None:
+        if not isinstance(inertia, list) or len(inertia) != 3:
+            raise FormatError(f"{p}: 'Inertia' must be a list of 3 numbers [Ixx, Iyy, Izz] (kg m2)")
+        inertia = tuple(_finite(v, p, "Inertia") for v in inertia)
     return Pac89Tyre(
         coefficients=coeffs,
+        mass=mass,
+        inertia=inertia,
+        vertical_damping=num("Vertical Damping"),
         unloaded_radius=num("Unloaded Radius"),
         width=num("Width"),
         lateral_stiffness=num("Lateral Stiffness"),
@@ -103,29 +124,61 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
     )
 
 
+#: the design parameters Pac89Tire::Create reads unconditionally (Pac89Tire.cpp @ 17a9098167)
+REQUIRED_DESIGN = ("Unloaded Radius", "Width", "Lateral Stiffness", "Vertical Stiffness", "Vertical Damping",
+                   "Rolling Resistance")
+
+
 def chrono_dict(tyre: Pac89Tyre, mass: float | None = None, inertia=None) -> dict:
-    """The Chrono JSON document of ``tyre`` as a dict."""
+    """The Chrono JSON document of ``tyre`` as a dict, with every key Chrono reads unconditionally.
+
+    Raises
+    ------
+    ModelError
+        a value Chrono needs is unknown (radius, width, stiffnesses, damping,
+        mass, inertia); the message names them and the ``fit`` flags that
+        give them.
+    """
+    from .tir import coefficients_for_export
+
+    mass = tyre.mass if mass is None else mass
+    inertia = tyre.inertia if inertia is None else inertia
     design: dict[str, object] = {}
-    if tyre.unloaded_radius is not None:
-        design["Unloaded Radius"] = tyre.unloaded_radius
-    if tyre.width is not None:
-        design["Width"] = tyre.width
-    if tyre.vertical_stiffness is not None:
-        design["Vertical Stiffness"] = tyre.vertical_stiffness
+    values = {"Unloaded Radius": tyre.unloaded_radius, "Width": tyre.width,
+              "Vertical Stiffness": tyre.vertical_stiffness, "Vertical Damping": tyre.vertical_damping,
+              "Lateral Stiffness": tyre.lateral_stiffness, "Rolling Resistance": tyre.rolling_resistance}
+    missing = [k for k, v in values.items() if v is None]
+    missing += [k for k, v in (("Mass", mass), ("Inertia", inertia)) if v is None]
+    if missing:
+        raise ModelError(f"Chrono's Pac89Tire JSON needs {', '.join(missing)}, which this tyre does not have; "
+                         "give fit --size (radius, width, estimates of mass, inertia, damping) and --rated-load or "
+                         "--vertical (stiffness)")
+    if tyre.lateral_stiffness <= 0:
+        raise ModelError(f"Lateral Stiffness = {tyre.lateral_stiffness!r} N/m: Chrono divides Fy by it; it must be "
+                         "positive")
+    for k in ("Unloaded Radius", "Width", "Vertical Stiffness"):
+        design[k] = float(values[k])
+    design["Vertical Damping"] = float(tyre.vertical_damping)
     if tyre.vertical_curve:
         design["Vertical Curve Data"] = [[float(a), float(b)] for a, b in tyre.vertical_curve]
-    if tyre.lateral_stiffness is not None:
-        design["Lateral Stiffness"] = tyre.lateral_stiffness
-    design["Rolling Resistance"] = tyre.rolling_resistance
+    design["Lateral Stiffness"] = float(tyre.lateral_stiffness)
+    design["Rolling Resistance"] = float(tyre.rolling_resistance)
+    coeffs, absent = coefficients_for_export(tyre)
+    notes = [str(h) for h in tyre.header if "ESTIMATED" in str(h) or "NOT FITTED" in str(h)]
+    for part in absent:
+        note = (f"{part} part NOT FITTED (no data): neutral coefficients, zero force (C = 1, D = Fz, slip "
+                "stiffness 0)")
+        if not any(n.startswith(part) and "NOT FITTED" in n for n in notes):
+            notes.append(note)
     doc: dict[str, object] = {"Name": tyre.name, "Type": "Tire", "Template": "Pac89Tire"}
-    if mass is not None:
-        doc["Mass"] = mass
-    if inertia is not None:
-        doc["Inertia"] = list(inertia)
+    if notes:
+        doc["Notes"] = notes
+    doc["Mass"] = float(mass)
+    doc["Inertia"] = [float(v) for v in inertia]
     doc["Coefficient of Friction"] = 0.8
     doc["Design Parameters"] = design
     for sec, names in _SECTIONS:
-        doc[sec] = {k: tyre.coefficients[k] for k in names}
+        doc[sec] = {k: coeffs[k] for k in names}
     return doc
 
 

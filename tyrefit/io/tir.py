@@ -378,7 +378,7 @@ def pac89_from_property_file(pf: PropertyFile) -> Pac89Tyre:
         raise FormatError(f"{path}: no PAC89 coefficients found (a0..a13, b0..b10); expected "
                           "[LATERAL_COEFFICIENTS] a0 = ...")
 
-    damping = pf.number("VERTICAL_DAMPING", factor=F / L)
+    damping = pf.number("VERTICAL_DAMPING", factor=F * pf.unit_factor("TIME") / L)
     mass = pf.number("MASS", section="INERTIA")
     return Pac89Tyre(
         coefficients=coeffs,
@@ -523,8 +523,31 @@ def _fc(v: float) -> str:
 
 
 def _line(key: str, value: str, comment: str = "") -> str:
+    """``KEY = value`` padded to a column, then `` $ comment``: a value never runs into the comment."""
     s = f"{key:<21}= {value}"
-    return f"{s:<40}$ {comment}" if comment else s
+    return f"{s:<39} $ {comment}" if comment else s
+
+
+#: coefficient blocks written for a part with no data: finite in Chrono's equations (C = 1, D = Fz [N],
+#: a4 = 1 so that sin(2 atan(Fz/a4)) is defined) with zero slip stiffness (a3, b3, b4, c3, c4 = 0), so
+#: that B = BCD / (C D) = 0 and the part gives no force: never the all-zero block (B = 0/0 = NaN)
+NEUTRAL_BLOCKS = {
+    "lateral": {**{k: 0.0 for k in pac89.LATERAL}, "a0": 1.0, "a2": 1.0, "a4": 1.0},
+    "longitudinal": {**{k: 0.0 for k in pac89.LONGITUDINAL}, "b0": 1.0, "b2": 1.0},
+    "aligning": {**{k: 0.0 for k in pac89.ALIGNING}, "c0": 1.0, "c2": 1.0},
+}
+
+
+def coefficients_for_export(tyre: Pac89Tyre) -> tuple[dict[str, float], list[str]]:
+    """The coefficients to write, a part without a model replaced by its :data:`NEUTRAL_BLOCKS`; the parts."""
+    c = dict(tyre.coefficients)
+    absent = []
+    for part, ok in (("lateral", tyre.has_lateral), ("longitudinal", tyre.has_longitudinal),
+                     ("aligning", tyre.has_aligning)):
+        if not ok:
+            c.update(NEUTRAL_BLOCKS[part])
+            absent.append(part)
+    return c, absent
 
 
 def _quoted(text: str) -> str:
@@ -540,7 +563,14 @@ def format_tir(tyre: Pac89Tyre) -> str:
     """The PAC89 ``.tir`` text of ``tyre`` (dimensions in mm, stiffness in N/mm)."""
     bar = "$" + "-" * 70
     out = [bar + "info"]
-    for h in tyre.header or ["PAC89 tyre written by tyrefit"]:
+    coeffs, absent = coefficients_for_export(tyre)
+    header = list(tyre.header or ["PAC89 tyre written by tyrefit"])
+    for part in absent:
+        note = (f"{part} part NOT FITTED (no data): neutral coefficients, zero force (C = 1, D = Fz, slip "
+                "stiffness 0)")
+        if not any(h.startswith(part) and "NOT FITTED" in h for h in header):
+            header.append(note)
+    for h in header:
         for part in str(h).splitlines() or [""]:
             out.append(f"! {_CONTROL.sub('?', part)}")
     name = _CONTROL.sub("?", _LINE_BREAKS.sub(" ", str(tyre.name)))  # a line break would end the quoted value
@@ -554,6 +584,8 @@ def format_tir(tyre: Pac89Tyre) -> str:
         dims.append(_line("UNLOADED_RADIUS", _fc(tyre.unloaded_radius * 1e3), "mm"))
     if tyre.width is not None:
         dims.append(_line("WIDTH", _fc(tyre.width * 1e3), "mm"))
+    if tyre.aspect_ratio is not None:
+        dims.append(_line("ASPECT_RATIO", _fc(tyre.aspect_ratio), "-"))
     if dims:
         out += [bar + "dimension", "[DIMENSION]"] + dims
     vert = []
@@ -561,6 +593,8 @@ def format_tir(tyre: Pac89Tyre) -> str:
         vert.append(_line("FNOMIN", _f(tyre.fnomin), "N, nominal (rated) load"))
     if tyre.vertical_stiffness is not None:
         vert.append(_line("VERTICAL_STIFFNESS", _fc(tyre.vertical_stiffness * 1e-3), "N/mm"))
+    if tyre.vertical_damping is not None:
+        vert.append(_line("VERTICAL_DAMPING", _fc(tyre.vertical_damping * 1e-3), "N*s/mm"))
     if vert:
         out += [bar + "vertical", "[VERTICAL]"] + vert
     out += [bar + "parameter", "[PARAMETER]"]
@@ -580,7 +614,7 @@ def format_tir(tyre: Pac89Tyre) -> str:
     for sec, names in (("LATERAL_COEFFICIENTS", pac89.LATERAL), ("LONGITUDINAL_COEFFICIENTS", pac89.LONGITUDINAL),
                        ("ALIGNING_COEFFICIENTS", pac89.ALIGNING)):
         out += [bar + sec.split("_")[0].lower(), f"[{sec}]"]
-        out += [f"{n:<4}= {_f(tyre.coefficients[n])}" for n in names]
+        out += [f"{n:<4}= {_f(coeffs[n])}" for n in names]
     return "\n".join(out) + "\n"
 
 

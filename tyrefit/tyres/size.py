@@ -1,0 +1,212 @@
+"""Tyre size designations and the design data a simulator needs that a rig test does not give.
+
+:func:`parse_size` reads ISO metric sizes (``385/65R22.5``, ``205/55 R16 91V``,
+``P215/60R16``, ``LT265/75R16``, ``205/55ZR16``) and flotation sizes
+(``37x12.5R16.5``, ``37X12.50R16.5LT``) into section width, aspect ratio, rim
+diameter and unloaded radius.
+
+:func:`design_estimates` fills what Chrono's ``Pac89Tire`` JSON and an Adams
+``.tir`` require but tyrefit cannot measure from force data alone -- mass,
+inertia, vertical damping, and (without a vertical or static test) the
+vertical and lateral stiffness -- with documented rules of thumb.  Every
+value it returns comes with a sentence saying how it was estimated, which the
+writers put in the file's header (``.tir``) or its ``"Notes"`` (JSON).  They
+are estimates, good to tens of percent, for a simulator to run, not
+measurements:
+
+* **mass** m = 0.015 x rated load / g.  Tyre mass is close to 1.5 % of the
+  load the tyre is rated for across sizes: 205/55R16 91 (615 kg) about 9 kg,
+  385/65R22.5 160 (4500 kg) about 68 kg (manufacturers' data sheets).
+  Without a rated load: 15 kg/m^2 of outer surface (two sidewall annuli and
+  the tread band).
+* **inertia** (Chrono's [Ixx, Iyy, Izz], y the spin axis): the tread band
+  (its share of the surface area of the mass) as a thin ring at the unloaded
+  radius R and the sidewalls as annuli between the rim radius r and R:
+  Iyy = m_t R^2 + m_s (R^2 + r^2)/2, Ixx = Izz = Iyy/2 + m w^2/12.  For
+  Chrono's HMMWV tyre (37.6 kg, R 0.464 m, r 0.2096 m, w 0.318 m) this gives
+  Iyy = 6.36 kg m^2 against the file's 6.69.
+* **vertical damping** c = 2 zeta sqrt(k m) with zeta = 0.5 on the tyre's own
+  mass: Chrono's HMMWV Pac89 JSON (k = 326332 N/m, m = 37.6 kg) has
+  c = 3484 N s/m, this rule 3503.
+* **vertical stiffness** (only without a vertical test) k = F / (0.15 H): a
+  15 % deflection of the section height H at the rated load F.
+* **lateral stiffness** (only without a static lateral test) 0.8 x vertical
+  stiffness, the ratio of Chrono's HMMWV Pac89 tyre (261065 / 326332 N/m).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+from ..errors import DataError
+
+__all__ = ["TyreSize", "parse_size", "design_estimates", "complete_design", "G0"]
+
+G0 = 9.80665
+_INCH = 0.0254
+
+# One pass over the designation, no nested repetition (linear time)
+_METRIC = re.compile(r"(?:P|LT|T|ST|C)?(\d{3})\s?/\s?(\d{2,3})\s?(?:Z?R|-|D|B)\s?(\d{2}(?:\.\d)?)", re.I)
+_FLOTATION = re.compile(r"(\d{2}(?:\.\d{1,2})?)\s?X\s?(\d{1,2}(?:\.\d{1,2})?)\s?(?:Z?R|-|D|B)\s?(\d{2}(?:\.\d)?)",
+                        re.I)
+
+
+@dataclass(frozen=True)
+class TyreSize:
+    """A tyre size.
+
+    Attributes
+    ----------
+    text : str
+        the designation as given.
+    width : float
+        nominal section width [m].
+    aspect_ratio : float
+        section height / width [-].
+    rim_diameter : float
+        [m].
+    """
+
+    text: str
+    width: float
+    aspect_ratio: float
+    rim_diameter: float
+
+    @property
+    def section_height(self) -> float:
+        """[m]"""
+        return self.width * self.aspect_ratio
+
+    @property
+    def rim_radius(self) -> float:
+        """[m]"""
+        return 0.5 * self.rim_diameter
+
+    @property
+    def unloaded_radius(self) -> float:
+        """Rim radius plus section height [m] (ISO 4000-1 / ETRTO design diameter / 2)."""
+        return self.rim_radius + self.section_height
+
+
+def parse_size(text: str) -> TyreSize:
+    """Parse an ISO metric (``385/65R22.5``) or flotation (``37x12.5R16.5``) size.
+
+    Raises
+    ------
+    DataError
+        not a size, or numbers outside any tyre made (width 100-1000 mm,
+        aspect 20-120 %, rim 8-63 in).
+    """
+    s = str(text).strip()
+    if len(s) > 60:
+        raise DataError(f"--size {s[:40]!r}...: not a tyre size; expected e.g. 385/65R22.5 or 205/55R16")
+    m = _METRIC.fullmatch(s.split()[0]) if s else None
+    if m is None and s:
+        m = _METRIC.match(s)
+    if m is not None:
+        width, aspect, rim = float(m.group(1)) * 1e-3, float(m.group(2)) / 100.0, float(m.group(3)) * _INCH
+    else:
+        f = _FLOTATION.match(s) if s else None
+        if f is None:
+            raise DataError(f"--size {s!r}: not a tyre size; expected an ISO metric size such as 385/65R22.5 or "
+                            "205/55R16, or a flotation size such as 37x12.5R16.5")
+        diameter, width, rim = (float(f.group(i)) * _INCH for i in (1, 2, 3))
+        if not diameter > rim:
+            raise DataError(f"--size {s!r}: the overall diameter is not larger than the rim")
+        aspect = 0.5 * (diameter - rim) / width
+    if not (0.1 <= width <= 1.0 and 0.2 <= aspect <= 1.2 and 8 * _INCH <= rim <= 63 * _INCH):
+        raise DataError(f"--size {s!r}: width {width * 1e3:.0f} mm, aspect ratio {aspect * 100:.0f} %, rim "
+                        f"{rim / _INCH:g} in is not a tyre; expected e.g. 385/65R22.5")
+    return TyreSize(s, width, aspect, rim)
+
+
+def design_estimates(*, unloaded_radius: float, width: float, rim_radius: float | None = None,
+                     rated_load: float | None = None, vertical_stiffness: float | None = None,
+                     lateral_stiffness: float | None = None, mass: float | None = None,
+                     aspect_ratio: float | None = None,
+                     vertical_damping: float | None = None, inertia=None) -> dict[str, tuple[object, str]]:
+    """Estimates of the design values not given (see the module notes), each with its sentence.
+
+    Parameters are SI; a value given is kept and not estimated.  Returns
+    ``{name: (value, note)}`` for ``mass`` [kg], ``inertia`` [kg m^2] x 3,
+    ``vertical_stiffness`` [N/m], ``lateral_stiffness`` [N/m],
+    ``vertical_damping`` [N s/m] -- only those that were missing.
+    """
+    R, w = float(unloaded_radius), float(width)
+    r = rim_radius if rim_radius else (R - w * aspect_ratio if aspect_ratio else 0.55 * R)
+    r = min(max(r, 0.2 * R), 0.95 * R)
+    out: dict[str, tuple[object, str]] = {}
+    side, tread = 2 * math.pi * (R**2 - r**2), 2 * math.pi * R * w
+    if mass is None:
+        if rated_load:
+            mass = 0.015 * rated_load / G0
+            out["mass"] = (mass, f"mass {mass:.3g} kg ESTIMATED as 1.5 % of the rated load {rated_load:.0f} N / g")
+        else:
+            mass = 15.0 * (side + tread)
+            out["mass"] = (mass, f"mass {mass:.3g} kg ESTIMATED as 15 kg/m2 of outer surface (no rated load given)")
+    share = tread / (side + tread)
+    iyy = mass * (share * R**2 + (1 - share) * 0.5 * (R**2 + r**2))
+    ixx = 0.5 * iyy + mass * w**2 / 12.0
+    if inertia is None:
+        out["inertia"] = ((ixx, iyy, ixx), f"inertia [Ixx, Iyy, Izz] = [{ixx:.3g}, {iyy:.3g}, {ixx:.3g}] kg m2 "
+                                           f"ESTIMATED: tread ring at R = {R:.3f} m, sidewall annuli from r = {r:.3f} m")
+    k = vertical_stiffness
+    if k is None:
+        if not rated_load:
+            raise DataError("no vertical stiffness: give a vertical test (--vertical) or the rated load "
+                            "(--rated-load) to estimate it")
+        height = max(R - r, 1e-3)
+        k = rated_load / (0.15 * height)
+        out["vertical_stiffness"] = (k, f"VERTICAL_STIFFNESS {k / 1e3:.4g} N/mm ESTIMATED as 15 % deflection of the "
+                                        f"section height {height * 1e3:.0f} mm at the rated load {rated_load:.0f} N")
+    if lateral_stiffness is None:
+        out["lateral_stiffness"] = (0.8 * k, f"LATERAL_STIFFNESS {0.8 * k / 1e3:.4g} N/mm ESTIMATED as 0.8 x vertical "
+                                             "stiffness (ratio of Chrono's HMMWV Pac89 tyre)")
+    if vertical_damping is not None:
+        return out
+    c = 2 * 0.5 * math.sqrt(k * mass)
+    out["vertical_damping"] = (c, f"VERTICAL_DAMPING {c:.4g} N s/m ESTIMATED as 2 x 0.5 x sqrt(k m) (zeta 0.5 on "
+                                  "the tyre mass; Chrono's HMMWV tyre: 3484 against 3503 by this rule)")
+    return out
+
+
+def complete_design(tyre, size: TyreSize | None = None, rated_load: float | None = None) -> list[str]:
+    """Give a :class:`~tyrefit.tyres.pac89.Pac89Tyre` what Adams and Chrono require; return the notes.
+
+    The size sets UNLOADED_RADIUS, WIDTH and ASPECT_RATIO (replacing none that
+    the data gave); ``rated_load`` sets FNOMIN.  Then :func:`design_estimates`
+    fills mass, inertia, vertical damping and any stiffness still missing;
+    each estimate is said in a header line of the tyre.  Without a radius and
+    width (no size) nothing is estimated, and the notes say what is missing.
+    """
+    notes: list[str] = []
+    if size is not None:
+        for attr, value in (("unloaded_radius", size.unloaded_radius), ("width", size.width),
+                            ("aspect_ratio", size.aspect_ratio)):
+            if getattr(tyre, attr) is None:
+                setattr(tyre, attr, value)
+        notes.append(f"size {size.text}: unloaded radius {size.unloaded_radius * 1e3:.1f} mm (rim radius + section "
+                     f"height), width {size.width * 1e3:.0f} mm, aspect ratio {size.aspect_ratio:.3g}")
+    if rated_load is not None:
+        tyre.fnomin = float(rated_load)
+    if tyre.unloaded_radius is None or tyre.width is None:
+        notes.append("no tyre size (--size): UNLOADED_RADIUS, WIDTH, ASPECT_RATIO, mass, inertia and vertical "
+                     "damping are not written; Adams and Chrono need them")
+        return notes
+    load = tyre.fnomin
+    try:
+        est = design_estimates(unloaded_radius=tyre.unloaded_radius, width=tyre.width,
+                               rim_radius=size.rim_radius if size is not None else None, rated_load=load,
+                               vertical_stiffness=tyre.vertical_stiffness, lateral_stiffness=tyre.lateral_stiffness,
+                               mass=tyre.mass, aspect_ratio=tyre.aspect_ratio,
+                               vertical_damping=tyre.vertical_damping, inertia=tyre.inertia)
+    except DataError as exc:
+        notes.append(f"not estimated: {exc}")
+        return notes
+    for key, (value, note) in est.items():
+        setattr(tyre, key, value)
+        notes.append(note)
+    tyre.header = list(tyre.header) + [n for n in notes if n not in tyre.header]
+    return notes
