@@ -53,7 +53,10 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
 
     p = sub.add_parser("fit", parents=[common], help="fit a PAC89 tyre to slip-angle, slip-ratio or static-rig data")
-    p.add_argument("data", metavar="DATA")
+    p.add_argument("data", metavar="DATA", nargs="+",
+                   help="data file(s) of one tyre; several (cornering + drive/brake) need --model mf61 or mf52")
+    p.add_argument("--model", choices=("pac89", "mf52", "mf61"), default="pac89",
+                   help="tyre model family and .tir layout written (default pac89)")
     p.add_argument("--patch", metavar="PATCH.csv", help="contact-patch data (needed for static-rig tests, Eq. 1)")
     p.add_argument("--rig", metavar="RIG.json", help="displacement-to-slip calibration from 'tyrefit rig calibrate'")
     p.add_argument("--vertical", metavar="VERTICAL.csv", help="vertical-stiffness test (VERTICAL_STIFFNESS in the .tir)")
@@ -146,6 +149,8 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (tcp://host:8786)")
     b.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: CPU count)")
     b.add_argument("--cost", choices=("l1", "l2"), default="l2")
+    b.add_argument("--model", choices=("pac89", "mf52", "mf61"), default="pac89",
+                   help="tyre model family of every tyre written (default pac89)")
     _convention(b)
 
     p = sub.add_parser("inspect", parents=[common], help="say what a data or tyre file holds")

@@ -229,6 +229,15 @@ def run(args) -> int:
     if out.suffix.lower() != ".tir":
         raise DataError(f"--out {out}: the tyre file must end in .tir")
     check_outputs(args)
+    datas = list(args.data) if isinstance(args.data, (list, tuple)) else [args.data]
+    if (getattr(args, "model", None) or "pac89") != "pac89":
+        from .fit_mf import run_mf
+
+        return run_mf(args, out, datas)
+    if len(datas) > 1:
+        raise DataError(f"{len(datas)} DATA files: fitting one tyre to several files needs a Magic Formula model "
+                        "(--model mf61 or mf52); PAC89 is fitted to one file")
+    args.data = datas[0]
     if getattr(args, "by", None):
         return _run_by(args, out)
     result, extras = fit_file(args)

@@ -1,0 +1,108 @@
+"""``tyrefit fit DATA [DATA ...] --model mf61|mf52 --out TYRE.tir``: one Magic Formula tyre from every file.
+
+The records (a cornering and a drive/brake record of the same tyre, say) are
+read with the same ``--convention``, gathered and fitted in stages by
+:func:`tyrefit.fitting.mf.fit_mf`; the tyre is written as a complete
+``FITTYP = 61`` property file (:func:`tyrefit.io.mf_tir.write_mf_tir`) with
+the data sources and the RMSE per channel in its header.  ``--effects``
+fits diagnose's start model (PCY1, PDY1, PKY1, PKY2, PEY1) and then the
+start model plus the MF 6.1 coefficients that carry those effects
+(:data:`tyrefit.fitting.mf.EFFECT_COEFFICIENTS`), so the error waterfall of
+``tyrefit diagnose`` continues in the exported tyre; both RMSEs are printed.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..errors import DataError
+
+__all__ = ["run_mf", "fit_mf_files"]
+
+_PAC89_ONLY = (("patch", "--patch (static-rig tests)"), ("rig", "--rig"), ("vertical", "--vertical"),
+               ("by", "--by"), ("json", "--json (Chrono's PAC89 JSON)"))
+
+
+def fit_mf_files(args, datas):
+    """Read ``datas`` and fit; returns ``(result, start)`` (``start``: start-model fit with --effects, else None)."""
+    from ..fitting.mf import fit_mf, prepare_mf_data
+    from ..io.readers import read_data
+
+    conv = getattr(args, "convention", "iso") or "iso"
+    sets = []
+    for path in datas:
+        ds = read_data(path, convention=conv)
+        if ds.kind not in ("slip_angle", "slip_ratio"):
+            raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a Magic Formula tyre; it needs "
+                            "slip-angle or slip-ratio sweeps from a dynamic rig")
+        sets.append(ds)
+    data = prepare_mf_data(sets)
+    info = {"name": Path(datas[0]).stem}
+    if getattr(args, "rated_load", None) is not None:
+        if not args.rated_load > 0:
+            raise DataError(f"--rated-load {args.rated_load}: must be a positive load in N")
+        info["fnomin"] = float(args.rated_load)
+    effects = [e.strip() for e in (getattr(args, "effects", None) or "").split(",") if e.strip()]
+    kw = {"model": args.model, "cost": getattr(args, "cost", "l2") or "l2", "tyre_info": info}
+    start = None
+    if effects:
+        start = fit_mf(data, effects=[], **kw)
+        result = fit_mf(data, effects=effects, **kw)
+        result.notes.append(f"effects {', '.join(effects)}: start-model Fy RMSE {start.rmse:.4g} N -> "
+                            f"{result.rmse:.4g} N with the effects")
+    else:
+        result = fit_mf(data, **kw)
+    return result, start
+
+
+def _report(result, start, args, out: Path, datas) -> None:
+    from ..io.outputs import write_text
+    from ..io.report import Report
+
+    rdir = Path(args.report)
+    names = ", ".join(Path(d).name for d in datas)
+    r = Report(f"Magic Formula {result.version} fit — {names}",
+               f"tyrefit fit {' '.join(map(str, datas))} --model {result.model} → {out.name}"
+               + (f" (effects: {', '.join(result.effects)})" if result.effects else ""))
+    try:
+        rel = os.path.relpath(out.resolve(), rdir.resolve())
+    except ValueError:  # pragma: no cover - other drive on Windows
+        rel = str(out)
+    r.link(rel, f"tyre file: {out.name}")
+    if start is not None:
+        r.h2("Diagnose's start model and start model + effects, in MF 6.1")
+        r.table([{"model": "start (PCY1, PDY1, PKY1, PKY2, PEY1)", "Fy RMSE [N]": start.rmse},
+                 {"model": "start + " + ", ".join(result.effects), "Fy RMSE [N]": result.rmse}])
+    result.report_blocks(r)
+    rdir.mkdir(parents=True, exist_ok=True)
+    if not result.cells.empty:
+        write_text(rdir / "cells.csv", result.cells.to_csv(index=False), force=True)
+    r.save(rdir, force=args.force)
+
+
+def run_mf(args, out: Path, datas) -> int:
+    """``tyrefit fit`` with ``--model mf61`` or ``mf52``."""
+    for attr, flag in _PAC89_ONLY:
+        if getattr(args, attr, None):
+            raise DataError(f"{flag} is for --model pac89; a Magic Formula fit takes dynamic-rig slip sweeps only")
+    result, start = fit_mf_files(args, datas)
+    result.write_tir(out, force=args.force)
+    if getattr(args, "report", None):
+        _report(result, start, args, out, datas)
+    parts = ", ".join(f"{c.upper()} RMSE {s['rmse']:.4g} {s['unit']} (R² {s['r2']:.4f}, noise floor "
+                      f"{s['noise_floor']:.3g} {s['unit']})" for c, s in result.stats.items())
+    print(f"wrote {out} (MF {result.version}, {len(result.fitted)} coefficients fitted from {len(datas)} file(s)): "
+          f"{parts}")
+    if start is not None:
+        print(f"  start model Fy RMSE {start.rmse:.4g} N -> with {', '.join(result.effects)}: {result.rmse:.4g} N")
+    for name, f in result.stages.items():
+        print(f"  stage {name}: {len(f.varied)} coefficients, {f.n_sweeps} sweeps, {f.seconds:.1f} s")
+    held = sorted(result.not_identifiable)
+    if held:
+        print(f"  held (not identifiable from these data, {len(held)}): " + ", ".join(held))
+    for n in result.notes:
+        print(f"  note: {n}")
+    if getattr(args, "report", None):
+        print(f"wrote {Path(args.report) / 'index.html'}")
+    return 0

@@ -1,0 +1,1150 @@
+"""Staged Magic Formula 6.1 (and 5.2) fit of one tyre to one or more rig records.
+
+:func:`fit_mf` fits a complete MF 6.1 parameter set, evaluated by
+:func:`tyrefit.models.mf61.forces`, to every record given (a cornering and a
+drive/brake record of the same tyre, say), in the stages a tyre laboratory
+uses, each on the sweeps that carry its information:
+
+========  =====================================  ====================================
+stage     sweeps                                  coefficients (MF 6.1 names)
+========  =====================================  ====================================
+Fx0       slip-ratio sweeps at slip angle ~ 0     PCX1, PDX*, PEX*, PKX*, PHX*, PVX*, PPX*
+Fy0       slip-angle sweeps at slip ratio ~ 0     PCY1, PDY*, PEY*, PKY*, PHY*, PVY*, PPY*
+Mz0       slip-angle sweeps at slip ratio ~ 0     QBZ*, QCZ1, QDZ*, QEZ*, QHZ*, PPZ*
+Fx        combined sweeps (kappa at alpha != 0)   RBX*, RCX1, REX*, RHX1
+Fy        combined sweeps                         RBY*, RCY1, REY*, RHY*, RVY*
+Mz        combined sweeps                         SSZ*
+Mx        every sweep with mx                     QSX1-QSX3, PPMX1
+My        slip-ratio sweeps with my               QSY1-QSY8
+========  =====================================  ====================================
+
+Each stage holds the coefficients of the stages before it (Mz0 needs the
+Fy0 cornering stiffness and shape, combined slip needs the pure-slip
+curves), which is why the order is fixed.  Every stage is a small bounded
+least-squares problem (:func:`scipy.optimize.least_squares`, trust-region
+reflective) on the friction coefficient, as the PAC89 fit
+(:mod:`tyrefit.fitting.engine`): residual ``r_i = w_s (F_model - F_i) / Fz_i``
+with the *measured* load, camber, pressure and speed of every point, and
+``w_s = 1/sqrt(n_s)`` per sweep (l2) so densely sampled sweeps do not
+dominate; ``cost='l1'`` is Komana et al. Eq. 5 (sum |r| with w_s = 1/n_s),
+reached from the l2 solution by a pseudo-Huber continuation.  Moments are
+divided by ``Fz R0`` instead of ``Fz``.
+
+Jacobian
+--------
+Forward differences, one evaluation of the stage's own channel per varied
+coefficient (a stage varies 4-27 coefficients; the model is vectorised over
+all points, so a Jacobian costs k+1 array evaluations).  The step is
+``sqrt(eps) * max(|theta|, typical size)`` per coefficient.  The stages are
+what makes the fit fast: the plain alternative (all coefficients at once,
+see ``benchmarks/bench_fit_mf.py``) evaluates every channel of the whole
+model for every one of ~100 coefficients per Jacobian.
+
+Initial values
+--------------
+Eq. 2-4 of Komana et al. (seed 003) per sweep (:func:`tyrefit.fitting.initial.estimate_sweep`)
+give C, the peak friction D, BCD and E of every pure-slip sweep; linear
+regressions over the sweeps' load, pressure and camber map them to PCX1,
+PDX1/PDX2/PPX3, PKX1/PKX2/PPX1, PEX1 (and the Y equivalents; PKY1 and PKY2
+from the cornering stiffness against load, with PKY4 = 2).  The aligning
+moment starts from the pneumatic trail measured near zero slip (QDZ1).
+Multi-start as for PAC89: the Eq. 2-4 start, a typical shape with E = 0, a
+high-C high-E start and a low-C low-E start are each run (core first, then
+the whole stage); the lowest cost wins and is polished.
+
+Physical constraints, over the fitted range
+-------------------------------------------
+C > 0 (PCX1, PCY1, QCZ1, RCX1, RCY1 bounded below); E <= 1 (PEX1, PEY1,
+REX1, REY1 bounded above).  Over a grid of the fitted load (5 levels),
+pressure (3) and camber (3) range and both slip signs, the peak friction
+mu_x, mu_y > 0, the curvatures E_x, E_y <= 1 and the slip stiffnesses K_x,
+K_y (with the data's sign) > 0 are held by penalty residuals
+``10 sqrt(n_sweeps) max(0, margin - c)`` that are zero wherever the
+constraint holds; after the fit every constraint is checked on the grid and
+a violation is reported (``FitResultMF.constraints``).  The factor formulas
+are those of Pacejka (2012) 4.E11-4.E30 (``_factors``).
+
+Identifiability (:func:`identifiability`, held and explained)
+--------------------------------------------------------------
+A coefficient the data cannot determine is held at its neutral value and
+listed with the reason.  Counts are taken over the sweeps of the stage:
+
+* load: the ``*2`` load slopes need >= 2 load levels, the quadratic/exponent
+  terms (PEX3, PKX3, PKY4, QBZ3, QEZ3) >= 3;
+* camber: |gamma| terms (PDX3, PDY3, PKY3, QBZ5, QDZ3, RBX3, RBY4, QSY5) need
+  >= 2 levels of |gamma|, gamma^2 terms beyond the first (PEY5, PKY5,
+  QDZ4, QSY6) >= 3 levels of |gamma| or 2 with loads; signed camber terms
+  (PKY6/PKY7, PVY3/PVY4, PEY4, QDZ8-QDZ11, QHZ3/QHZ4, RVY3, SSZ3/SSZ4,
+  QSX2) >= 2 camber levels;
+* pressure: PPX1, PPX3, PPY1, PPY3, PPZ1, PPZ2, PPY5, PPMX1, QSY8 need >= 2
+  pressures; PPX2, PPX4, PPY4 (quadratic in dpi) >= 3; PPY2 (the load of the
+  stiffness peak, inside the atan of 4.E25) >= 3, or 2 with >= 3 loads;
+* shifts need both slip signs reaching half the largest |slip| (PHX1, PVX1,
+  PHY1, PVY1, QHZ1, QDZ6, PEX4 (drive and brake), PEY3, QEZ4, RVY1/RVY5/RVY6
+  and RHY1 (drive and brake in the combined sweeps), RHX1 (both slip-angle
+  signs in the combined sweeps));
+* combined slip needs combined sweeps; RBY3 and RVY4 >= 2 slip-angle levels;
+* speed: QSY3/QSY4 need >= 2/3 speeds (MF 6.1 has no other speed coefficient;
+  its friction-speed law is the scaling factor LMUV, which is not fitted);
+* with no sweep reaching its peak the curvature E of that stage is held.
+
+Effects (``fit --effects ... --model mf61``)
+--------------------------------------------
+:data:`EFFECT_COEFFICIENTS` maps the diagnose effect ids
+(:mod:`tyrefit.effects.catalogue`) to the MF 6.1 lateral coefficients that
+carry them; the Fy0 stage then varies the start model
+(:data:`START_FY0`: PCY1, PDY1, PKY1, PKY2, PEY1) plus those, so the
+diagnose waterfall continues in the exported tyre.
+
+References
+----------
+Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. (2012), sections 4.3.2-4.3.4
+and the equations 4.E1-4.E78; Besselink, Schmeitz, Pacejka, "An improved
+Magic Formula/Swift tyre model that can handle inflation pressure changes",
+VSD 48 (2010) (the PP* terms).  Komana, Els, Becker (seed 003), Eq. 2-5.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import least_squares
+
+from ..errors import DataError, FitError
+from . import initial as ini
+from ._blas import single_threaded_blas
+
+__all__ = ["fit_mf", "prepare_mf_data", "identifiability", "MFData", "FitResultMF", "STAGES",
+           "EFFECT_COEFFICIENTS", "START_FY0", "effect_coefficients"]
+
+_DEG = math.pi / 180.0
+_MODELS = {"mf61": "6.1", "mf52": "5.2"}
+
+# ------------------------------------------------------------------------------- stages
+FX0 = ("PCX1", "PDX1", "PDX2", "PDX3", "PEX1", "PEX2", "PEX3", "PEX4", "PKX1", "PKX2", "PKX3",
+       "PHX1", "PHX2", "PVX1", "PVX2", "PPX1", "PPX2", "PPX3", "PPX4")
+FY0 = ("PCY1", "PDY1", "PDY2", "PDY3", "PEY1", "PEY2", "PEY3", "PEY4", "PEY5", "PKY1", "PKY2", "PKY3",
+       "PKY4", "PKY5", "PKY6", "PKY7", "PHY1", "PHY2", "PVY1", "PVY2", "PVY3", "PVY4",
+       "PPY1", "PPY2", "PPY3", "PPY4", "PPY5")
+MZ0 = ("QBZ1", "QBZ2", "QBZ3", "QBZ4", "QBZ5", "QBZ9", "QBZ10", "QCZ1", "QDZ1", "QDZ2", "QDZ3", "QDZ4",
+       "QDZ6", "QDZ7", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "QEZ1", "QEZ2", "QEZ3", "QEZ4", "QEZ5",
+       "QHZ1", "QHZ2", "QHZ3", "QHZ4", "PPZ1", "PPZ2")
+FXC = ("RBX1", "RBX2", "RBX3", "RCX1", "REX1", "REX2", "RHX1")
+FYC = ("RBY1", "RBY2", "RBY3", "RBY4", "RCY1", "REY1", "REY2", "RHY1", "RHY2",
+       "RVY1", "RVY2", "RVY3", "RVY4", "RVY5", "RVY6")
+MZC = ("SSZ1", "SSZ2", "SSZ3", "SSZ4")
+MX = tuple(f"QSX{i}" for i in range(1, 15)) + ("PPMX1",)
+#: the Mx terms that enter linearly (fitted first; the trigonometric QSX4-QSX11 then start from them)
+MX_LINEAR = ("QSX1", "QSX2", "QSX3", "QSX12", "QSX13", "QSX14", "PPMX1")
+MY = ("QSY1", "QSY2", "QSY3", "QSY4", "QSY5", "QSY6", "QSY7", "QSY8")
+
+#: MF 5.2 has no pressure terms and uses the 5.2 camber forms; these are the coefficients 6.1 added
+_ONLY_61 = frozenset(["PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPY5", "PPZ1", "PPZ2",
+                      "PPMX1", "PKY5", "PKY6", "PKY7", "PEY5", "QDZ10", "QDZ11", "RBX3", "RBY4", "QSY7", "QSY8",
+                      "QBZ6"])
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One stage of the fit: its channel, its sweeps and its coefficients."""
+
+    name: str
+    channel: str
+    sweeps: tuple[str, ...]  # sweep kinds it fits: 'longitudinal', 'lateral', 'combined'
+    names: tuple[str, ...]
+    core: tuple[str, ...]  # coefficients of the core sub-stage of the multi-start
+    pure: str | None = None  # 'alpha' -> evaluate at slip_angle = 0; 'kappa' -> at slip_ratio = 0
+    moment: bool = False
+
+
+STAGES: tuple[Stage, ...] = (
+    Stage("Fx0", "fx", ("longitudinal",), FX0, ("PCX1", "PDX1", "PKX1", "PEX1"), pure="alpha"),
+    Stage("Fy0", "fy", ("lateral",), FY0, ("PCY1", "PDY1", "PKY1", "PKY2", "PEY1"), pure="kappa"),
+    Stage("Mz0", "mz", ("lateral",), MZ0, ("QBZ1", "QCZ1", "QDZ1", "QEZ1", "QDZ6"), pure="kappa", moment=True),
+    Stage("Fx", "fx", ("combined",), FXC, ("RBX1", "RBX2", "RCX1")),
+    Stage("Fy", "fy", ("combined", "longitudinal"), FYC, ("RBY1", "RBY2", "RCY1")),
+    Stage("Mz", "mz", ("combined", "longitudinal"), MZC, ("SSZ1", "SSZ2"), moment=True),
+    Stage("Mx", "mx", ("lateral", "combined", "longitudinal"), MX, MX_LINEAR, moment=True),
+    Stage("My", "my", ("longitudinal", "combined"), MY, ("QSY1", "QSY2"), moment=True),
+)
+_STAGE = {s.name: s for s in STAGES}
+
+#: start model of diagnose, in MF 6.1 lateral coefficients (shape, friction, stiffness law, curvature)
+START_FY0 = ("PCY1", "PDY1", "PKY1", "PKY2", "PEY1")
+#: diagnose effect id -> MF 6.1 coefficients that carry it (Pacejka 2012, 4.E19-4.E30)
+EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
+    "load_friction": ("PDY2",),
+    "curvature_load": ("PEY2",),
+    # MF 6.1 mu_y is linear in dfz: a fall above the rated load is carried by PDY2 and the curvature
+    # law at best; the stiffness fall by PKY4 (the stiffness law's curvature, peak at PKY2 Fz0)
+    "overload": ("PDY2", "PEY2"),
+    "overload_stiffness": ("PDY2", "PEY2", "PKY4"),
+    "camber": ("PDY3", "PKY3", "PKY6", "PKY7", "PVY3", "PVY4", "PEY3"),
+    "camber_thrust": ("PKY6", "PKY7", "PVY3", "PVY4"),
+    "camber_brush": ("PKY6", "PKY7", "PEY4", "PEY5", "PVY3", "PVY4"),
+    "offsets": ("PHY1", "PHY2", "PVY1", "PVY2"),
+    "offsets_constant": ("PHY1", "PVY1"),
+    "pressure": ("PPY1", "PPY2", "PPY3", "PPY4"),
+    "pressure_stiffness": ("PPY1", "PPY2"),
+    "pressure_grip": ("PPY3", "PPY4"),
+    "speed": (),
+}
+_EFFECT_NOTES = {
+    "speed": "speed: MF 6.1 carries speed in Fx/Fy only through the scaling factor LMUV (friction decay with slip "
+             "speed), which a fit does not set; QSY3/QSY4 (rolling resistance) are fitted where My is measured",
+    "overload": "overload: MF 6.1 friction is linear in load (PDY2); a fall beyond the rated load is absorbed by "
+                "PDY2 and PEY2 over the fitted range only",
+}
+
+
+def effect_coefficients(ids: Sequence[str]) -> tuple[list[str], list[str]]:
+    """MF 6.1 Fy0 coefficients to vary for the diagnose start model plus effects ``ids``, and notes.
+
+    Unknown ids are a :class:`DataError` naming the known ones.
+    """
+    vary = list(START_FY0)
+    notes: list[str] = []
+    for eid in ids:
+        if eid not in EFFECT_COEFFICIENTS:
+            from ..errors import close_matches
+
+            raise DataError(f"unknown effect {eid!r} for --model mf61; known: {', '.join(EFFECT_COEFFICIENTS)}"
+                            + close_matches(eid, EFFECT_COEFFICIENTS))
+        vary += [k for k in EFFECT_COEFFICIENTS[eid] if k not in vary]
+        if eid in _EFFECT_NOTES:
+            notes.append(_EFFECT_NOTES[eid])
+    return vary, notes
+
+
+# --------------------------------------------------------------------------------- data
+_CHANNELS = ("fx", "fy", "mz", "mx", "my")
+
+
+@dataclass
+class MFData:
+    """Every point of every record, with its sweep kind, and the sweeps' conditions.
+
+    Attributes
+    ----------
+    df : DataFrame
+        ``fz`` [N], ``slip_angle`` [rad], ``slip_ratio`` [-], ``camber`` [rad],
+        ``pressure`` [Pa], ``speed`` [m/s] (NaN where a record does not give
+        them: the nominal value is used), measured channels ``fx fy mz mx my``
+        (NaN where not measured), ``run`` (unique over all records), ``source``
+        and ``kind`` ('lateral', 'longitudinal', 'combined').
+    sweeps : DataFrame
+        one row per run: kind, source, n, mean conditions, slip span.
+    sources : list of str
+    notes : list of str
+    """
+
+    df: pd.DataFrame
+    sweeps: pd.DataFrame
+    sources: list[str]
+    notes: list[str] = field(default_factory=list)
+
+    def subset(self, kinds: Sequence[str], channel: str) -> pd.DataFrame:
+        d = self.df[self.df["kind"].isin(kinds)]
+        if channel not in d:
+            return d.iloc[:0]
+        return d[np.isfinite(d[channel].to_numpy(float))]
+
+
+def _span(v: np.ndarray) -> float:
+    v = v[np.isfinite(v)]
+    if v.size < 2:
+        return 0.0
+    lo, hi = np.percentile(v, [2, 98])  # robust to single spikes
+    return float(hi - lo)
+
+
+def _classify(g: pd.DataFrame) -> str | None:
+    sa = g["slip_angle"].to_numpy(float)
+    sr = g["slip_ratio"].to_numpy(float)
+    sa_span, sr_span = _span(sa), _span(sr)
+    sa_med = float(np.nanmedian(sa)) if np.isfinite(sa).any() else 0.0
+    sr_med = float(np.nanmedian(sr)) if np.isfinite(sr).any() else 0.0
+    if sa_span >= 0.5 * _DEG and sr_span < 0.05:
+        # slip-angle sweep; slip-ratio noise of +-0.01 (FSAE TTC) is still pure cornering
+        return "lateral" if abs(sr_med) < 0.02 else "combined"
+    if sr_span >= 0.01 and sa_span < 1.5 * _DEG:
+        return "longitudinal" if abs(sa_med) < 0.5 * _DEG else "combined"
+    if sr_span >= 0.01 and sa_span >= 0.5 * _DEG:
+        return "combined"
+    return None
+
+
+def _as_frame(item, convention: str):
+    """(DataFrame, source) of a Dataset, a DataFrame or a path."""
+    if isinstance(item, pd.DataFrame):
+        return item, ""
+    if hasattr(item, "df"):
+        return item.df, str(getattr(item, "source", "") or "")
+    from ..io.readers import read_data
+
+    ds = read_data(item, convention=convention)
+    return ds.df, str(ds.source)
+
+
+def prepare_mf_data(data, *, convention: str = "iso") -> MFData:
+    """Gather one or more records of one tyre into an :class:`MFData`.
+
+    Parameters
+    ----------
+    data : Dataset, DataFrame or path, or a sequence of them
+        canonical columns (SI, ISO-W): ``fz`` and at least one of ``fx``,
+        ``fy``, ``mz`` with ``slip_angle`` and/or ``slip_ratio``; ``run`` per
+        file (derived by the readers).
+    convention : {'iso', 'sae'}
+        for paths: the files' sign convention.
+
+    Each run is classified: *lateral* (the slip angle spans >= 0.5 deg and the
+    slip ratio less than 0.05, with |median slip ratio| < 0.02), *longitudinal*
+    (the slip ratio spans >= 0.01, the slip angle less than 1.5 deg and
+    |median| < 0.5 deg), *combined* (a slip-ratio sweep at a slip angle, or a
+    slip-angle sweep at a slip ratio, or both varying).  Runs that are none
+    (no slip variation) are left out with a note.  Points with NaN or
+    non-positive ``fz`` or NaN slip are dropped.
+    """
+    items = list(data) if isinstance(data, (list, tuple)) else [data]
+    if not items:
+        raise DataError("no data given")
+    frames, sources, notes = [], [], []
+    next_run = 0
+    for k, item in enumerate(items):
+        df, src = _as_frame(item, convention)
+        src = src or f"data {k + 1}"
+        if "fz" not in df:
+            raise DataError(f"{src}: no 'fz' column; fitting needs the normal load of every point")
+        if not any(c in df for c in ("fx", "fy", "mz")):
+            raise DataError(f"{src}: no force channel (fx, fy or mz): nothing to fit")
+        if "slip_angle" not in df and "slip_ratio" not in df:
+            raise DataError(f"{src}: neither slip_angle nor slip_ratio: a Magic Formula fit needs slip sweeps")
+        if "lateral_displacement" in df and "slip_angle" not in df:
+            raise DataError(f"{src}: static-rig data (lateral displacement) cannot be fitted to a Magic Formula "
+                            "tyre; fit them with --model pac89 and --patch")
+        d = pd.DataFrame(index=df.index)
+        for c in ("fz", "slip_angle", "slip_ratio", "camber", "pressure", "speed") + _CHANNELS:
+            d[c] = pd.to_numeric(df[c], errors="coerce").astype(float) if c in df else np.nan
+        for c in ("slip_angle", "slip_ratio", "camber"):
+            if c not in df:
+                d[c] = 0.0
+        d["camber"] = d["camber"].fillna(0.0)
+        if "run" in df:
+            run = pd.to_numeric(df["run"], errors="coerce").fillna(-1).astype(int).to_numpy()
+        else:
+            from .engine import _derive_runs
+
+            run = _derive_runs(d.assign(run=0).drop(columns="run"))
+        d["source"] = src
+        ok = (np.isfinite(d["fz"].to_numpy()) & (d["fz"].to_numpy() > 0) & np.isfinite(d["slip_angle"].to_numpy())
+              & np.isfinite(d["slip_ratio"].to_numpy()) & (run >= 0))
+        d, run = d[ok], run[ok]
+        _, inv = np.unique(run, return_inverse=True)
+        d["run"] = inv + next_run
+        next_run += int(inv.max()) + 1 if len(inv) else 0
+        frames.append(d)
+        sources.append(src)
+    df = pd.concat(frames, ignore_index=True)
+    kinds = {}
+    dropped = []
+    for run, g in df.groupby("run", sort=True):
+        if len(g) < 5:
+            dropped.append(int(run))
+            continue
+        kinds[run] = _classify(g)
+        if kinds[run] is None:
+            dropped.append(int(run))
+    df["kind"] = df["run"].map(kinds)
+    if dropped:
+        notes.append(f"{len(dropped)} run(s) without slip variation or with < 5 points left out")
+    df = df[df["kind"].notna()].reset_index(drop=True)
+    if df.empty:
+        raise DataError(f"{', '.join(sources)}: nothing to fit: need sweeps of slip_angle (0.5 deg span) or "
+                        "slip_ratio (0.01 span) with at least 5 points")
+    g = df.groupby("run", sort=True)
+    sw = g[["fz", "camber", "pressure", "speed", "slip_angle", "slip_ratio"]].mean()
+    sw["n"] = g.size()
+    sw["kind"] = g["kind"].first()
+    sw["source"] = g["source"].first()
+    sw["alpha_span"] = g["slip_angle"].agg(lambda v: _span(v.to_numpy(float)))
+    sw["kappa_span"] = g["slip_ratio"].agg(lambda v: _span(v.to_numpy(float)))
+    for c in _CHANNELS:
+        sw[f"has_{c}"] = g[c].agg(lambda v: bool(np.isfinite(v.to_numpy(float)).sum() >= 5))
+    return MFData(df, sw.reset_index(), sources, notes)
+
+
+# ------------------------------------------------------------------------ condition levels
+def _levels(values, tol: float) -> list[float]:
+    v = np.sort(np.asarray(values, float))
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return []
+    out, grp = [], [v[0]]
+    for x in v[1:]:
+        if x - grp[-1] > tol:
+            out.append(float(np.mean(grp)))
+            grp = []
+        grp.append(x)
+    out.append(float(np.mean(grp)))
+    return out
+
+
+def condition_levels(sweeps: pd.DataFrame) -> dict[str, list[float]]:
+    """Levels of load [N], camber [rad], |camber|, pressure [Pa], speed [m/s] and slip angle of ``sweeps``."""
+    fz = sweeps["fz"].to_numpy(float)
+    lv = ini.load_levels(fz) if len(fz) else np.array([], int)
+    loads = sorted(float(np.mean(fz[lv == k])) for k in np.unique(lv)) if len(fz) else []
+    cam_tol = 0.25 * _DEG
+    return {"fz": loads,
+            "camber": _levels(sweeps["camber"], cam_tol),
+            "abs_camber": _levels(np.abs(sweeps["camber"]), cam_tol),
+            "pressure": _levels(sweeps["pressure"], 5e3),
+            "speed": _levels(sweeps["speed"], 2.0 / 3.6),
+            "slip_angle": _levels(sweeps["slip_angle"], 0.5 * _DEG)}
+
+
+# --------------------------------------------------------------------- identifiability
+def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame, *,
+                    any_peak: bool = True, version: str = "6.1") -> tuple[dict[str, str], dict]:
+    """Coefficients of ``stage`` the data cannot determine, with the reason.
+
+    Parameters
+    ----------
+    stage : Stage or str
+    pts : DataFrame
+        the stage's points (columns as :class:`MFData.df`).
+    sweeps : DataFrame
+        the stage's sweeps (rows of :attr:`MFData.sweeps`).
+    any_peak : bool
+        some sweep of a pure-slip stage reaches its peak (else E is held).
+
+    Returns
+    -------
+    (dict name -> reason, facts)
+    """
+    st = _STAGE[stage] if isinstance(stage, str) else stage
+    lv = condition_levels(sweeps)
+    n_l, n_c, n_ac = len(lv["fz"]), len(lv["camber"]), len(lv["abs_camber"])
+    if np.max(np.abs(sweeps["camber"].to_numpy(float)), initial=0.0) < 0.25 * _DEG:
+        n_ac = min(n_ac, 1)
+    n_p, n_v = len(lv["pressure"]), len(lv["speed"])
+    nz_alpha = [a for a in lv["slip_angle"] if abs(a) >= 0.5 * _DEG]
+    slip_col = "slip_angle" if st.name in ("Fy0", "Mz0", "Mx") else "slip_ratio"
+    x = pts[slip_col].to_numpy(float)
+    xmax = float(np.max(np.abs(x))) if x.size else 0.0
+    pos, neg = int(np.sum(x > 0.5 * xmax)), int(np.sum(x < -0.5 * xmax))
+    both = pos >= 3 and neg >= 3
+    a_sign = {int(np.sign(a)) for a in nz_alpha}
+    facts = {"points": int(len(pts)), "sweeps": int(len(sweeps)), "load_levels": n_l, "camber_levels": n_c,
+             "abs_camber_levels": n_ac, "pressure_levels": n_p, "speed_levels": n_v,
+             "slip_angle_levels": len(lv["slip_angle"]), "both_slip_signs": both, "points_pos": pos,
+             "points_neg": neg, "any_peak": bool(any_peak), "levels": lv}
+    why: dict[str, str] = {}
+
+    def need(names, ok, reason):
+        for nm in names:
+            if nm in st.names and not ok:
+                why.setdefault(nm, reason)
+
+    loads2 = f"needs >= 2 load levels (data: {n_l})"
+    loads3 = f"needs >= 3 load levels (data: {n_l})"
+    cam = f"needs >= 2 camber levels (data: {n_c})"
+    acam = f"needs >= 2 levels of |camber| (data: {n_ac})"
+    acam3 = f"needs >= 3 levels of |camber|, or 2 with >= 2 loads (data: {n_ac} |camber|, {n_l} loads)"
+    pr2 = f"needs >= 2 inflation pressures (data: {n_p})"
+    pr3 = f"needs >= 3 inflation pressures (quadratic in dpi or inside the stiffness law's atan; data: {n_p})"
+    bothr = (f"needs both slip signs reaching half the largest |{slip_col}| (data: {pos} points above, "
+             f"{neg} below)")
+    if version == "5.2":
+        for nm in st.names:
+            if nm in _ONLY_61:
+                why[nm] = "not an MF 5.2 coefficient (5.2 has no pressure terms and other camber forms)"
+    # load
+    need(["PDX2", "PKX2", "PEX2", "PHX2", "PVX2", "PDY2", "PKY2", "PEY2", "PHY2", "PVY2", "QBZ2", "QDZ2",
+          "QDZ7", "QEZ2", "QHZ2", "REX2", "REY2", "RHY2", "RVY2", "QSY7"], n_l >= 2, loads2)
+    need(["PEX3", "PKX3", "PKY4", "QBZ3", "QEZ3"], n_l >= 3, loads3)
+    # camber
+    need(["PDX3", "PDY3", "PKY3", "QBZ5", "QDZ3", "RBX3", "RBY4", "QSY5"], n_ac >= 2, acam)
+    need(["PEY5", "PKY5", "QDZ4", "QSY6"], n_ac >= 3 or (n_ac >= 2 and n_l >= 2), acam3)
+    need(["PKY6", "PVY3", "PEY4", "QBZ4", "QDZ8", "QDZ10", "QHZ3", "QEZ5", "RVY3", "SSZ3", "QSX2", "QSX7",
+          "QSX12", "QSX14"], n_c >= 2, cam)
+    need(["PKY7", "PVY4", "QDZ9", "QDZ11", "QHZ4", "SSZ4", "QSX10", "QSX11"], n_c >= 2 and n_l >= 2,
+         f"needs >= 2 camber levels and >= 2 load levels (data: {n_c} camber, {n_l} loads)")
+    # with cambers of one sign only, a signed term and an |gamma| term on the same factor are one column
+    cams = sweeps["camber"].to_numpy(float)
+    one_sign = cams.size > 0 and (cams.min() > -0.25 * _DEG or cams.max() < 0.25 * _DEG)
+    need(["QBZ4"], not one_sign or n_c < 2,
+         "with cambers of one sign only QBZ4 (gamma) and QBZ5 (|gamma|) in B_t are the same column; QBZ5 is "
+         "fitted (symmetric), QBZ4 held")
+    # pressure
+    need(["PPX1", "PPX3", "PPY1", "PPY3", "PPZ1", "PPZ2", "PPMX1", "QSY8"], n_p >= 2, pr2)
+    need(["PPX2", "PPX4", "PPY4"], n_p >= 3, pr3)
+    # PPY2 moves the load of the stiffness peak with pressure: K_y against load at two pressures shows it
+    need(["PPY2"], n_p >= 3 or (n_p >= 2 and n_l >= 3),
+         f"needs >= 3 pressures, or 2 with >= 3 load levels (data: {n_p} pressures, {n_l} loads)")
+    need(["PPY5"], n_p >= 2 and n_c >= 2, f"needs >= 2 pressures and >= 2 camber levels (data: {n_p}, {n_c})")
+    # speed
+    need(["QSY3"], n_v >= 2, f"needs >= 2 speeds (data: {n_v})")
+    need(["QSY4"], n_v >= 3, f"needs >= 3 speeds (data: {n_v})")
+    # shifts and asymmetry
+    if st.name in ("Fx0", "Fy0", "Mz0"):
+        need(["PHX1", "PVX1", "PHX2", "PVX2", "PEX4", "PHY1", "PVY1", "PHY2", "PVY2", "PEY3", "PEY4",
+              "QHZ1", "QHZ2", "QDZ6", "QDZ7", "QEZ4", "QEZ5"], both, bothr)
+    if st.name in ("Fy", "Fx"):
+        need(["RVY1", "RVY2", "RVY3", "RVY5", "RVY6", "RHY1", "RHY2"], both,
+             bothr.replace("needs", "needs drive and brake:"))
+        need(["RHX1"], len(a_sign) >= 2, f"needs combined sweeps at slip angles of both signs "
+                                          f"(data: {sorted(round(a / _DEG, 1) for a in nz_alpha)} deg)")
+        need(["RBY3", "RVY4"], len(nz_alpha) >= 2,
+             f"needs combined sweeps at >= 2 non-zero slip angles (data: {len(nz_alpha)})")
+    if st.name == "Mx":
+        lat = bool((sweeps["kind"] != "longitudinal").any())
+        need(["QSX3", "QSX13", "QSX8", "QSX9"], lat, "needs cornering sweeps")
+        need(["QSX4", "QSX5", "QSX6", "QSX7", "QSX8", "QSX9"], lat and n_l >= 3 and n_c >= 2,
+             f"the trigonometric Mx terms need cornering sweeps at >= 3 loads and >= 2 cambers "
+             f"(data: {n_l} loads, {n_c} cambers)")
+        need(["QSX5", "QSX6"], n_l >= 3, loads3)
+    if st.name in ("Fx0", "Fy0") and not any_peak:
+        for nm in st.names:
+            if nm.startswith(("PEX", "PEY")):
+                why.setdefault(nm, "no sweep reaches its peak: curvature E held")
+    if not len(pts):
+        for nm in st.names:
+            why.setdefault(nm, f"no {'/'.join(st.sweeps)} sweeps with {st.channel}")
+    return why, facts
+
+
+# ----------------------------------------------------------------------------- factors
+def _factors(p: Mapping[str, float], stage: str, fz, dpi, gamma, sgn):
+    """Constraint quantities (Pacejka 2012): (name, value, margin) of stage ``stage`` on a grid.
+
+    Fx0: mu_x (4.E13) > 0, E_x (4.E14) <= 1, K_x/Fz (4.E15) > 0.
+    Fy0: mu_y (4.E23) > 0, E_y (4.E24) <= 1, sign * K_y/Fz0 (4.E25) > 0.
+    Combined: B_xa (4.E54), B_yk (4.E62) > 0; E_xa (4.E56), E_yk (4.E64) <= 1.
+    Values are dimensionless; a constraint holds when ``value >= margin``.
+    """
+    g = p.get
+    fz0 = float(g("FNOMIN", 1.0)) * float(g("LFZO", 1.0))
+    dfz = (fz - fz0) / fz0
+    out = []
+    if stage == "Fx0":
+        mux = (g("PDX1", 1) + g("PDX2", 0) * dfz) * (1 + g("PPX3", 0) * dpi + g("PPX4", 0) * dpi**2) \
+            * (1 - g("PDX3", 0) * gamma**2)
+        ex = (g("PEX1", 0) + g("PEX2", 0) * dfz + g("PEX3", 0) * dfz**2) * (1 - g("PEX4", 0) * sgn)
+        kx = (g("PKX1", 20) + g("PKX2", 0) * dfz) * np.exp(np.clip(g("PKX3", 0) * dfz, -50, 50)) \
+            * (1 + g("PPX1", 0) * dpi + g("PPX2", 0) * dpi**2)
+        out += [("mu_x > 0", mux, 0.02), ("E_x <= 1", 1.0 - ex, 0.0), ("K_x > 0", kx, 0.1)]
+    elif stage == "Fy0":
+        muy = (g("PDY1", 1) + g("PDY2", 0) * dfz) * (1 + g("PPY3", 0) * dpi + g("PPY4", 0) * dpi**2) \
+            * (1 - g("PDY3", 0) * gamma**2)
+        ey = (g("PEY1", 0) + g("PEY2", 0) * dfz) * (1 + g("PEY5", 0) * gamma**2
+                                                   - (g("PEY3", 0) + g("PEY4", 0) * gamma) * sgn)
+        den = (g("PKY2", 1) + g("PKY5", 0) * gamma**2) * (1 + g("PPY2", 0) * dpi) * fz0
+        ky = g("PKY1", -20) * (1 + g("PPY1", 0) * dpi) * (1 - g("PKY3", 0) * np.abs(gamma)) \
+            * np.sin(g("PKY4", 2) * np.arctan(fz / np.where(np.abs(den) > 1e-9, den, 1e-9)))
+        s = -1.0 if g("PKY1", -20) < 0 else 1.0  # the data's orientation is fixed by PKY1's sign
+        out += [("mu_y > 0", muy, 0.02), ("E_y <= 1", 1.0 - ey, 0.0), ("K_y > 0 (data's sign)", s * ky, 0.1)]
+    elif stage == "Fx":
+        out += [("B_xa > 0", (g("RBX1", 0) + g("RBX3", 0) * gamma**2) + 0 * fz, 0.0),
+                ("E_xa <= 1", 1.0 - (g("REX1", 0) + g("REX2", 0) * dfz), 0.0)]
+    elif stage == "Fy":
+        out += [("B_yk > 0", (g("RBY1", 0) + g("RBY4", 0) * gamma**2) + 0 * fz, 0.0),
+                ("E_yk <= 1", 1.0 - (g("REY1", 0) + g("REY2", 0) * dfz), 0.0)]
+    return out
+
+
+def _grid(pts: pd.DataFrame, nominal: Mapping[str, float]):
+    """Grid of the fitted range: 5 loads x 3 pressures x 3 cambers x both slip signs."""
+    fz = pts["fz"].to_numpy(float)
+    lo, hi = np.percentile(fz, [1, 99]) if fz.size else (1.0, 1.0)
+    fzg = np.linspace(lo, hi, 5)
+    pr = pts["pressure"].to_numpy(float)
+    pr = pr[np.isfinite(pr)]
+    p0 = float(nominal.get("NOMPRES", 0.0)) or 1.0
+    dpig = (np.linspace(pr.min(), pr.max(), 3) - p0) / p0 if pr.size and p0 > 0 else np.zeros(1)
+    cam = pts["camber"].to_numpy(float)
+    camg = np.linspace(cam.min(), cam.max(), 3) if cam.size else np.zeros(1)
+    F, P, G, S = np.meshgrid(fzg, dpig, camg, np.array([-1.0, 1.0]), indexing="ij")
+    return F.ravel(), P.ravel(), G.ravel(), S.ravel()
+
+
+# --------------------------------------------------------------------------- the evaluator
+def _mf61():
+    try:
+        from ..models import mf61
+    except ImportError:  # pragma: no cover - the evaluator ships with the package
+        raise DataError("--model mf61: the Magic Formula evaluator (tyrefit.models.mf61) is not available in this "
+                        "installation") from None
+    return mf61
+
+
+class _Eval:
+    """Evaluate one channel of the model at a stage's points (inputs prepared once)."""
+
+    def __init__(self, pts: pd.DataFrame, stage: Stage, nominal: Mapping[str, float], version: str):
+        self.mf = _mf61()
+        self.version = version
+        self.channel = stage.channel
+        self.pure = stage.pure
+        self.fz = pts["fz"].to_numpy(float)
+        self.kappa = pts["slip_ratio"].to_numpy(float).copy()
+        self.alpha = pts["slip_angle"].to_numpy(float).copy()
+        if stage.pure == "alpha":
+            self.alpha[:] = 0.0
+        elif stage.pure == "kappa":
+            self.kappa[:] = 0.0
+        self.gamma = pts["camber"].to_numpy(float)
+        pr = pts["pressure"].to_numpy(float)
+        self.pressure = np.where(np.isfinite(pr), pr, nominal.get("NOMPRES", np.nan)) if np.isfinite(pr).any() \
+            else None
+        v = pts["speed"].to_numpy(float)
+        self.speed = np.where(np.isfinite(v), v, nominal.get("LONGVL", np.nan)) if np.isfinite(v).any() else None
+
+    def __call__(self, p: Mapping[str, float]) -> np.ndarray:
+        kw = {"version": self.version}
+        if self.pure == "alpha" and self.channel == "fx":  # pure slip: the cheaper pure-slip functions
+            return self.mf.fx0(p, self.fz, self.kappa, self.gamma, self.pressure, self.speed, **kw)
+        if self.pure == "kappa" and self.channel == "fy":
+            return self.mf.fy0(p, self.fz, self.alpha, self.gamma, self.pressure, self.speed, **kw)
+        if self.pure == "kappa" and self.channel == "mz":
+            return self.mf.mz0(p, self.fz, self.alpha, self.gamma, self.pressure, self.speed, **kw)
+        if self._cache is None:
+            self._cache = self._parts(p)
+        if self._cache:
+            return self._partial(p)
+        out = self.mf.forces(p, self.fz, slip_ratio=self.kappa, slip_angle=self.alpha, camber=self.gamma,
+                             pressure=self.pressure, speed=self.speed, **kw)
+        return np.asarray(out[self.channel], float)
+
+    # -- the later stages: only the part that depends on the stage's own coefficients is re-evaluated
+    _cache = None
+
+    def _parts(self, p) -> dict:
+        """Everything that the stage's coefficients do not change, from the model's own stage functions.
+
+        The combined-slip and moment stages vary only G_x_alpha, G_y_kappa/SV_y_kappa, s (SSZ), Mx or My;
+        the pure-slip forces, the trail and the other channels are those of the stages before and are
+        evaluated once.  Returns {} (use :func:`forces`) when the model module has no stage functions.
+        """
+        mf = self.mf
+        need = ("_prepare", "_fx0_parts", "_fy0_parts", "_gxa", "_gyk", "_mz_parts", "_mz", "_mx", "_my",
+                "coefficients")
+        if not all(hasattr(mf, n) for n in need):
+            return {}
+        c, b = mf._prepare(p, self.version, self.fz, self.kappa, self.alpha, self.gamma, self.pressure, self.speed)
+        fx0, _, kxk = mf._fx0_parts(c, b)
+        fyp = mf._fy0_parts(c, b)
+        fx = mf._gxa(c, b) * fx0
+        gyk, svyk = mf._gyk(c, b, fyp["muy"])
+        fy = gyk * fyp["fy0"] + svyk
+        if b.v52:
+            _, svyk0 = mf._gyk(c, b, mf._fy0_parts(c, b, zero_camber=True)["muy"])
+            fy_prime = fy - svyk0
+        else:
+            fy_prime = gyk * mf._fy0_parts(c, b, zero_camber=True)["fy0"]
+        return {"b": b, "fx0": fx0, "kxk": kxk, "fyp": fyp, "fx": fx, "fy": fy, "fy_prime": fy_prime,
+                "mzp": mf._mz_parts(c, b, fyp)}
+
+    def _partial(self, p) -> np.ndarray:
+        mf, k = self.mf, self._cache
+        c, b = mf.coefficients(p), k["b"]
+        if self.channel == "fx":
+            y = mf._gxa(c, b) * k["fx0"]                                        # (4.E50)
+        elif self.channel == "fy":
+            gyk, svyk = mf._gyk(c, b, k["fyp"]["muy"])
+            y = gyk * k["fyp"]["fy0"] + svyk                                    # (4.E58)
+        elif self.channel == "mz":
+            y, _, _ = mf._mz(c, b, k["mzp"], k["fy_prime"], k["kxk"], k["fx"], k["fy"])
+        elif self.channel == "mx":
+            y = mf._mx(c, b, k["fy"])
+        else:
+            y = mf._my(c, b, k["fx"], self.pressure)
+        return np.broadcast_to(np.asarray(y, float), self.fz.shape)
+
+
+# ----------------------------------------------------------------------------- the problem
+_TYPICAL = {"PCX1": 1.6, "PCY1": 1.3, "QCZ1": 1.2, "RCX1": 1.0, "RCY1": 1.0, "PKY4": 2.0,
+            "QBZ1": 10.0, "QBZ10": 0.0, "RBX1": 12.0, "RBX2": 10.0, "RBY1": 10.0, "RBY2": 8.0}
+_BOUNDS = {"PCX1": (0.3, 3.0), "PCY1": (0.3, 3.0), "QCZ1": (0.3, 5.0), "RCX1": (0.05, 3.0), "RCY1": (0.05, 3.0),
+           "PEX1": (-30.0, 1.0), "PEY1": (-30.0, 1.0), "REX1": (-30.0, 1.0), "REY1": (-30.0, 1.0),
+           "PDX1": (0.02, 6.0), "PDY1": (0.02, 6.0), "PKY4": (0.3, 5.0), "PKY2": (0.05, 50.0),
+           "RBX1": (0.0, 500.0), "RBY1": (0.0, 500.0), "QBZ1": (0.0, 200.0), "PKX1": (0.0, 500.0),
+           "PEX4": (-1.0, 1.0), "PEY3": (-1.0, 1.0)}
+
+
+def _typical_step(name: str) -> float:
+    if name.startswith(("PK", "RB", "QB")):
+        return 1.0
+    return 0.1
+
+
+class _Problem:
+    def __init__(self, stage: Stage, pts: pd.DataFrame, base: dict[str, float], vary: Sequence[str],
+                 nominal: Mapping[str, float], version: str, cost: str, scale: float, pkysign: float):
+        self.stage = stage
+        self.base = dict(base)
+        self.vary = list(vary)
+        self.eval = _Eval(pts, stage, nominal, version)
+        self.y = pts[stage.channel].to_numpy(float)
+        runs = pts["run"].to_numpy()
+        _, inv, cnt = np.unique(runs, return_inverse=True, return_counts=True)
+        n = cnt[inv].astype(float)
+        self.n_sweeps = len(cnt)
+        self.cost = cost
+        self.w = (1.0 / np.sqrt(n) if cost == "l2" else 1.0 / n) / (self.eval.fz * scale)
+        self.lb = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[0] for k in self.vary], float)
+        self.ub = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[1] for k in self.vary], float)
+        if stage.name == "Fy0" and "PKY1" in self.vary:  # the data's orientation (ISO-W: PKY1 < 0)
+            if pkysign < 0:
+                self.ub[self.vary.index("PKY1")] = -1e-3
+            else:
+                self.lb[self.vary.index("PKY1")] = 1e-3
+        self.grid = _grid(pts, nominal)
+        self.pen_w = 10.0 * math.sqrt(max(1, self.n_sweeps)) * (1.0 if cost == "l2" else 1.0)
+        self.nfev = 0
+
+    def params(self, theta) -> dict[str, float]:
+        p = dict(self.base)
+        p.update(zip(self.vary, (float(t) for t in theta)))
+        return p
+
+    def penalties(self, p) -> np.ndarray:
+        F, P, G, S = self.grid
+        out = [np.maximum(0.0, m - np.asarray(v, float)) for _, v, m in _factors(p, self.stage.name, F, P, G, S)]
+        return self.pen_w * np.concatenate(out) if out else np.zeros(0)
+
+    def residual(self, theta) -> np.ndarray:
+        p = self.params(theta)
+        self.nfev += 1
+        y = self.eval(p)
+        r = self.w * (y - self.y)
+        r = np.where(np.isfinite(r), r, 1e3 * np.max(self.w))  # a non-finite model value is a large residual
+        return np.concatenate([r, self.penalties(p)])
+
+    def jac(self, theta, r0=None):
+        theta = np.asarray(theta, float)
+        if r0 is None:
+            r0 = self.residual(theta)
+        J = np.empty((r0.size, theta.size))
+        eps = math.sqrt(np.finfo(float).eps)
+        for j in range(theta.size):
+            h = eps * max(abs(theta[j]), _typical_step(self.vary[j]))
+            t = theta.copy()
+            t[j] = t[j] + h if t[j] + h <= self.ub[j] else t[j] - h
+            J[:, j] = (self.residual(t) - r0) / (t[j] - theta[j])
+        return J
+
+    def solve(self, theta0, *, loss="linear", f_scale=1.0, tol=1e-8, max_nfev=None):
+        if not len(theta0):
+            return np.asarray(theta0, float)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            r = least_squares(self.residual, _inside(theta0, self.lb, self.ub), jac=lambda t: self.jac(t),
+                              bounds=(self.lb, self.ub), method="trf", x_scale="jac", loss=loss, f_scale=f_scale,
+                              ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev or 100)
+        return r.x
+
+    def objective(self, theta) -> float:
+        r = self.residual(theta)
+        return float(np.sum(r * r)) if self.cost == "l2" else float(np.sum(np.abs(r)))
+
+    def theta(self, p: Mapping[str, float]) -> np.ndarray:
+        return _inside(np.array([float(p.get(k, self.base.get(k, 0.0))) for k in self.vary]), self.lb, self.ub)
+
+
+def _inside(x, lb, ub):
+    x = np.asarray(x, float).copy()
+    for j in range(x.size):
+        a, b = lb[j], ub[j]
+        ea = 1e-9 * max(1.0, abs(a)) if np.isfinite(a) else 0.0
+        eb = 1e-9 * max(1.0, abs(b)) if np.isfinite(b) else 0.0
+        x[j] = min(max(x[j], a + ea), b - eb)
+    return x
+
+
+# ----------------------------------------------------------------------- initial values
+def _regress(y, cols):
+    """Least-squares coefficients of y on the columns (NaN-safe); zeros for missing."""
+    X = np.column_stack([np.ones_like(y)] + list(cols))
+    ok = np.all(np.isfinite(X), axis=1) & np.isfinite(y)
+    if ok.sum() < X.shape[1]:
+        c = np.zeros(X.shape[1])
+        c[0] = float(np.nanmedian(y)) if np.isfinite(y).any() else 0.0
+        return c
+    c, *_ = np.linalg.lstsq(X[ok], y[ok], rcond=None)
+    return c
+
+
+def _initial_pure(stage: Stage, pts: pd.DataFrame, nominal: Mapping[str, float], why: dict) -> tuple[dict, pd.DataFrame, bool]:
+    """Eq. 2-4 estimates per sweep mapped to the stage's MF coefficients."""
+    fz0 = nominal["FNOMIN"]
+    p0 = nominal.get("NOMPRES", 0.0) or 1.0
+    lateral = stage.name == "Fy0"
+    slip, force = ("slip_angle", "fy") if lateral else ("slip_ratio", "fx")
+    scale = 180.0 / math.pi if lateral else 100.0
+    est = ini.estimate_sweeps(pts, slip, force, x_scale=scale, part="lateral" if lateral else "longitudinal")
+    if est.empty:
+        return {}, est, False
+    conds = pts.groupby("run")[["pressure", "camber"]].mean()
+    est = est.drop(columns=[c for c in ("pressure",) if c in est]).join(conds[["pressure"]], on="run")
+    dfz = (est["fz"].to_numpy(float) - fz0) / fz0
+    pr = est["pressure"].to_numpy(float)
+    dpi = np.where(np.isfinite(pr), (pr - p0) / p0, 0.0)
+    good = est["has_peak"].to_numpy(bool) if est["has_peak"].any() else np.ones(len(est), bool)
+    C = float(np.clip(np.median(est["C"][good]), 0.8, 2.5))
+    E = float(np.clip(np.median(est["E"][good]), -3.0, 0.9))
+    D = est["D"].to_numpy(float)
+    cols = [dfz if np.ptp(dfz) > 0.02 else np.zeros_like(dfz), dpi if np.ptp(dpi) > 0.02 else np.zeros_like(dpi)]
+    c_mu = _regress(D, cols)
+    mu0 = max(float(c_mu[0]), 0.05)
+    slope = est["BCD"].to_numpy(float) * scale  # d(mu)/d(slip) per rad or per unit kappa, >= 0
+    out: dict[str, float] = {}
+    if lateral:
+        # K_y = PKY1 Fz0 sin(PKY4 atan(Fz / (PKY2 Fz0))) with PKY4 = 2 (4.E25); linear LS in PKY1 per PKY2
+        ky = slope * est["fz"].to_numpy(float)
+        best = (np.inf, 20.0, 2.0)
+        for pky2 in np.geomspace(0.3, 20.0, 60):
+            basis = fz0 * np.sin(2.0 * np.arctan(est["fz"].to_numpy(float) / (pky2 * fz0)))
+            a = float(basis @ ky / max(basis @ basis, 1e-30))
+            res = float(np.sum((a * basis - ky) ** 2))
+            if res < best[0]:
+                best = (res, pky2, a)
+        _, pky2, pky1 = best
+        out.update(PCY1=C, PDY1=mu0, PDY2=float(c_mu[1]) if "PDY2" not in why else 0.0,
+                   PPY3=float(c_mu[2] / mu0) if "PPY3" not in why else 0.0,
+                   PEY1=E, PKY1=-abs(pky1) * _orientation(pts, "slip_angle", "fy"), PKY2=float(pky2), PKY4=2.0)
+    else:
+        c_k = _regress(slope, cols)
+        out.update(PCX1=C, PDX1=mu0, PDX2=float(c_mu[1]) if "PDX2" not in why else 0.0,
+                   PPX3=float(c_mu[2] / mu0) if "PPX3" not in why else 0.0, PEX1=E,
+                   PKX1=max(float(c_k[0]), 1.0), PKX2=float(c_k[1]) if "PKX2" not in why else 0.0,
+                   PPX1=float(c_k[2] / max(c_k[0], 1.0)) if "PPX1" not in why else 0.0)
+    return out, est, bool(est["has_peak"].any())
+
+
+def _orientation(pts, slip, force) -> float:
+    """+1 when the force falls with slip near zero (ISO-W lateral: Fy < 0 for alpha > 0), -1 otherwise."""
+    x, y = pts[slip].to_numpy(float), pts[force].to_numpy(float) / pts["fz"].to_numpy(float)
+    near = np.abs(x) <= 2 * _DEG
+    if near.sum() < 3 or np.ptp(x[near]) <= 0:
+        near = np.abs(x) <= np.percentile(np.abs(x), 30)
+    s = np.polyfit(x[near], y[near], 1)[0] if near.sum() >= 3 and np.ptp(x[near]) > 0 else -1.0
+    return 1.0 if s < 0 else -1.0
+
+
+def _initial_mz(pts: pd.DataFrame, nominal: Mapping[str, float]) -> dict[str, float]:
+    """QDZ1 from the pneumatic trail t = -Mz/Fy near zero slip: Dt0 = Fz R0/Fz0 QDZ1 (4.E42)."""
+    r0, fz0 = nominal["UNLOADED_RADIUS"], nominal["FNOMIN"]
+    a = pts["slip_angle"].to_numpy(float)
+    near = (np.abs(a) > 0.5 * _DEG) & (np.abs(a) < 3 * _DEG)
+    fy, mz, fz = pts["fy"].to_numpy(float), pts["mz"].to_numpy(float), pts["fz"].to_numpy(float)
+    ok = near & np.isfinite(fy) & np.isfinite(mz) & (np.abs(fy) > 1e-3 * fz)
+    t = float(np.median(-mz[ok] / fy[ok] * fz0 / fz[ok])) if ok.sum() >= 5 else 0.02
+    return {"QDZ1": float(np.clip(t / r0, 0.005, 1.0)), "QBZ1": 10.0, "QCZ1": 1.2, "QEZ1": -1.0, "QBZ10": 0.0}
+
+
+def _starts(stage: Stage, c0: dict[str, float]) -> list[dict[str, float]]:
+    """Multi-start points along the C-E valley (as PAC89's :func:`tyrefit.fitting.engine._starts`)."""
+    if stage.name in ("Fx0", "Fy0"):
+        C, E = ("PCX1", "PEX1") if stage.name == "Fx0" else ("PCY1", "PEY1")
+        typ = dict(c0, **{C: _TYPICAL[C], E: 0.0})
+        high = dict(c0, **{C: float(min(max(1.3 * c0[C], 1.6), 2.2)), E: 0.8})
+        low = dict(c0, **{C: float(max(0.85 * c0[C], 1.05)), E: c0[E] - 1.0})
+        return [c0, typ, high, low]
+    if stage.name == "Mz0":
+        return [c0, dict(c0, QBZ1=6.0, QCZ1=1.5, QEZ1=0.0), dict(c0, QBZ1=15.0, QCZ1=1.1, QEZ1=-3.0)]
+    if stage.name == "Fx":
+        return [c0, dict(c0, RBX1=25.0, RBX2=20.0, RCX1=1.0, REX1=-1.0), dict(c0, RBX1=6.0, RBX2=5.0, RCX1=1.0)]
+    if stage.name == "Mx":
+        # the trigonometric terms (MF 6.1 manual Mx, see tyrefit.models.mf61) from a generic shape: with
+        # QSX4 = 0 the derivatives of QSX5-QSX9 vanish, so QSX4 starts non-zero (both signs)
+        trig = {"QSX4": 0.5, "QSX5": 0.3, "QSX6": 1.0, "QSX7": 0.5, "QSX8": 1.0, "QSX9": 0.5, "QSX10": 0.0,
+                "QSX11": 1.0}
+        return [c0, dict(c0, **trig), dict(c0, **dict(trig, QSX4=-0.5))]
+    if stage.name == "Fy":
+        # SVy_kappa = DVy_kappa sin(RVY5 atan(RVY6 kappa)) (4.E66): with RVY1 = RVY5 = RVY6 = 0 every one of
+        # their derivatives is 0, so the starts give them typical magnitudes of either sign
+        sv = {k: v for k, v in (("RVY1", 0.02), ("RVY5", 1.9), ("RVY6", 10.0)) if k in c0}
+        sv_neg = dict(sv, RVY1=-0.02) if "RVY1" in sv else sv
+        return [dict(c0, **sv), dict(c0, RBY1=20.0, RBY2=15.0, RCY1=1.0, REY1=-1.0, **sv_neg),
+                dict(c0, RBY1=5.0, RBY2=4.0, RCY1=1.0, **sv)]
+    return [c0]
+
+
+# -------------------------------------------------------------------------- nominal values
+def _nominal(data: MFData, tyre_info: Mapping | None, base: Mapping[str, float]) -> dict[str, float]:
+    sw = data.sweeps
+    info = dict(tyre_info or {})
+    out = {}
+    lv = condition_levels(sw)
+    if info.get("fnomin"):
+        out["FNOMIN"] = float(info["fnomin"])
+    else:  # the middle load level, rounded: the data's own nominal load
+        out["FNOMIN"] = float(np.round(np.median(lv["fz"]), -1)) if lv["fz"] else float(base.get("FNOMIN", 4000.0))
+    pr = lv["pressure"]
+    out["NOMPRES"] = float(info.get("nompres") or (np.round(np.median(pr), -2) if pr else base.get("NOMPRES", 2e5)))
+    out["INFLPRES"] = out["NOMPRES"]
+    sp = lv["speed"]
+    if sp:
+        out["LONGVL"] = float(np.round(np.median(sp), 2))
+    if info.get("unloaded_radius"):
+        out["UNLOADED_RADIUS"] = float(info["unloaded_radius"])
+    if info.get("width"):
+        out["WIDTH"] = float(info["width"])
+    return out
+
+
+# ----------------------------------------------------------------------------- one stage
+@dataclass
+class StageFit:
+    """Result of one stage (internal; gathered into :class:`FitResultMF`)."""
+
+    name: str
+    channel: str
+    varied: list[str]
+    held: dict[str, str]
+    initial: dict[str, float]
+    facts: dict
+    objective: float
+    nfev: int
+    seconds: float
+    starts: list[dict]
+    estimates: pd.DataFrame
+    stderr: dict[str, float]
+    constraints: list[dict]
+    n_points: int
+    n_sweeps: int
+
+
+def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Sequence[str] | None,
+               nominal: Mapping[str, float], version: str, cost: str, notes: list[str],
+               multistart: bool = True) -> StageFit | None:
+    t0 = time.perf_counter()
+    pts = data.subset(stage.sweeps, stage.channel)
+    runs = pts["run"].unique()
+    sw = data.sweeps[data.sweeps["run"].isin(runs)]
+    if len(pts) < 10 or not len(sw):
+        return None
+    est = pd.DataFrame()
+    any_peak = True
+    init: dict[str, float] = {}
+    if stage.name in ("Fx0", "Fy0"):
+        why0, _ = identifiability(stage, pts, sw, version=version)
+        init, est, any_peak = _initial_pure(stage, pts, nominal, why0)
+    elif stage.name == "Mz0":
+        if "fy" in pts and np.isfinite(pts["fy"].to_numpy(float)).sum() > 10:
+            init = _initial_mz(pts, nominal)
+    elif stage.name in ("Fx", "Fy"):
+        init = {k: _TYPICAL[k] for k in ("RBX1", "RBX2", "RCX1", "RBY1", "RBY2", "RCY1") if k in stage.names}
+    why, facts = identifiability(stage, pts, sw, any_peak=any_peak, version=version)
+    names = [k for k in stage.names if k in _known_names()]
+    want = [k for k in names if k not in why]
+    if vary_only is not None:
+        asked_held = [k for k in vary_only if k in names and k in why]
+        if asked_held:
+            notes.append(f"{stage.name}: {', '.join(asked_held)} asked for but not identifiable from these data; "
+                         "held")
+        want = [k for k in want if k in set(vary_only)]
+    base = dict(p)
+    for k in names:
+        if k in init and (k in want or k in stage.core):
+            base[k] = init[k]
+    if not want:
+        return StageFit(stage.name, stage.channel, [], why, init, facts, float("nan"), 0, 0.0, [], est, {}, [],
+                        len(pts), len(sw))
+    scale = nominal.get("UNLOADED_RADIUS", 0.3) if stage.moment else 1.0
+    pkysign = base.get("PKY1", -1.0)
+    core = [k for k in stage.core if k in want]
+    starts = _starts(stage, base) if multistart else [base]
+    log, best = [], None
+    nfev = 0
+    # the multi-start runs on at most _START_POINTS points per sweep; the winner is polished on all points
+    pts_s = _thin(pts, _START_POINTS)
+    for si, st in enumerate(starts):
+        c = {k: (v if k in want else base.get(k, v)) for k, v in st.items()}
+        if core and len(core) < len(want):
+            p1 = _Problem(stage, pts_s, c, core, nominal, version, "l2", scale, pkysign)
+            c.update(p1.params(p1.solve(p1.theta(c), tol=1e-5)))
+            nfev += p1.nfev
+        p2 = _Problem(stage, pts_s, c, want, nominal, version, "l2", scale, pkysign)
+        th = p2.solve(p2.theta(c), tol=1e-6)
+        obj = p2.objective(th)
+        nfev += p2.nfev
+        log.append({"start": si, "objective_l2": obj})
+        if best is None or obj < best[0]:
+            best = (obj, p2, th)
+    _, prob_s, th = best
+    prob = _Problem(stage, pts, prob_s.params(th), want, nominal, version, "l2", scale, pkysign) \
+        if len(pts_s) < len(pts) else prob_s
+    n_before = prob.nfev
+    th = prob.solve(th, tol=1e-10, max_nfev=_POLISH_NFEV)
+    nfev += prob.nfev - n_before
+    if cost == "l1":
+        pl1 = _Problem(stage, pts, prob.params(th), want, nominal, version, "l1", scale, pkysign)
+        th1 = pl1.theta(prob.params(th))
+        r0 = pl1.residual(th1)[: len(pts)]
+        s0 = float(np.median(np.abs(r0))) or 1e-9
+        for fs in (0.3 * s0, 0.03 * s0, 0.003 * s0):
+            th1 = pl1.solve(th1, loss="soft_l1", f_scale=fs)
+        nfev += pl1.nfev
+        prob, th = pl1, th1
+    fitted = prob.params(th)
+    p.update({k: fitted[k] for k in names if k in fitted})
+    stderr = _stderr(prob, th, len(pts))
+    cons = _check_constraints(stage, fitted, prob.grid)
+    for c in cons:
+        if not c["holds"]:
+            notes.append(f"{stage.name}: constraint {c['constraint']} broken on the grid of the fitted range "
+                         f"(worst {c['worst']:.3g})")
+    for j, k in enumerate(prob.vary):
+        for b, side in ((prob.lb[j], "lower"), (prob.ub[j], "upper")):
+            if np.isfinite(b) and abs(th[j] - b) <= 1e-6 * max(1.0, abs(b)):
+                notes.append(f"{stage.name}: {k} ended at its {side} bound {b:g}")
+    return StageFit(stage.name, stage.channel, want, why, init, facts, prob.objective(th), nfev,
+                    time.perf_counter() - t0, log, est, stderr, cons, len(pts), len(sw))
+
+
+_START_POINTS = 60
+_POLISH_NFEV = 400
+
+
+def _thin(pts: pd.DataFrame, per_sweep: int) -> pd.DataFrame:
+    """Every k-th point of each sweep so that no sweep has more than about ``per_sweep`` points."""
+    g = pts.groupby("run", sort=False)
+    n = g["run"].transform("size").to_numpy()
+    step = np.maximum(1, np.ceil(n / per_sweep)).astype(int)
+    keep = (g.cumcount().to_numpy() % step) == 0
+    return pts[keep] if not keep.all() else pts
+
+
+def _stderr(prob: _Problem, th, n: int) -> dict[str, float]:
+    try:
+        J = prob.jac(th)[:n]
+        r = prob.residual(th)[:n]
+        s2 = float(np.sum(r * r)) / max(1, n - len(th))
+        cov = np.linalg.pinv(J.T @ J) * s2
+        return dict(zip(prob.vary, np.sqrt(np.clip(np.diag(cov), 0, None)).tolist()))
+    except (np.linalg.LinAlgError, ValueError):  # pragma: no cover
+        return {k: float("nan") for k in prob.vary}
+
+
+def _check_constraints(stage: Stage, p, grid) -> list[dict]:
+    F, P, G, S = grid
+    out = []
+    for name, v, m in _factors(p, stage.name, F, P, G, S):
+        v = np.asarray(v, float)
+        worst = float(np.min(v)) if v.size else float("nan")
+        out.append({"stage": stage.name, "constraint": name, "worst": worst, "margin": m,
+                    "holds": bool(worst >= 0.5 * m - 1e-9) if m > 0 else bool(worst >= -1e-6)})
+    return out
+
+
+_KNOWN: set | None = None
+
+
+def _known_names() -> set:
+    global _KNOWN
+    if _KNOWN is None:
+        mf = _mf61()
+        _KNOWN = {k for names in mf.COEFFICIENTS.values() for k in names}
+    return _KNOWN
+
+
+# ------------------------------------------------------------------------------ public API
+def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] | None = None,
+           effects: Sequence[str] | None = None, fixed: Mapping[str, float] | None = None,
+           tyre_info: Mapping | None = None, convention: str = "iso", stages: Sequence[str] | None = None,
+           multistart: bool = True) -> "FitResultMF":
+    """Fit a Magic Formula 6.1 (or 5.2) tyre to one or more rig records.
+
+    Parameters
+    ----------
+    data : Dataset, DataFrame, path, or a sequence of them
+        the records of one tyre (SI, ISO-W canonical columns).
+    model : {'mf61', 'mf52'}
+    cost : {'l2', 'l1'}
+        least squares, or Komana et al. Eq. 5 (sum of absolute mu errors).
+    vary : sequence of str, optional
+        coefficients that may vary (others held at neutral/initial values).
+    effects : sequence of str, optional
+        diagnose effect ids: the Fy0 stage varies :data:`START_FY0` plus
+        their coefficients (:data:`EFFECT_COEFFICIENTS`) only.
+    fixed : mapping, optional
+        coefficients held at these values (also FNOMIN, NOMPRES, ... ).
+    tyre_info : mapping, optional
+        ``fnomin`` [N], ``nompres`` [Pa], ``unloaded_radius``, ``width`` [m], ``name``.
+    stages : sequence of str, optional
+        stages to run (default all, see :data:`STAGES`).
+
+    Returns
+    -------
+    FitResultMF
+    """
+    t0 = time.perf_counter()
+    if model not in _MODELS:
+        raise DataError(f"--model {model!r}: a Magic Formula fit takes mf61 or mf52")
+    if cost not in ("l1", "l2"):
+        raise DataError(f"cost {cost!r} is not known; accepted: 'l1' (Komana et al. Eq. 5) or 'l2' (least squares)")
+    version = _MODELS[model]
+    mf = _mf61()
+    data = data if isinstance(data, MFData) else prepare_mf_data(data, convention=convention)
+    notes = list(data.notes)
+    p = {k.upper(): float(v) for k, v in mf.neutral().items()}
+    p.update(_nominal(data, tyre_info, p))
+    for k, v in (fixed or {}).items():
+        p[str(k).upper()] = float(v)
+    nominal = {k: p[k] for k in ("FNOMIN", "NOMPRES", "LONGVL", "UNLOADED_RADIUS") if k in p}
+    fixed_names = {str(k).upper() for k in (fixed or {})}
+    eff_vary = None
+    if effects is not None:  # [] is diagnose's start model alone
+        eff_vary, en = effect_coefficients(list(effects))
+        notes += en
+    vary_set = {str(k).upper() for k in vary} if vary is not None else None
+    fits: dict[str, StageFit] = {}
+    with single_threaded_blas():
+        for st in STAGES:
+            if stages is not None and st.name not in stages:
+                continue
+            only = None
+            if st.name == "Fy0" and eff_vary is not None:
+                only = list(eff_vary)
+            if vary_set is not None:
+                only = [k for k in (only if only is not None else st.names) if k in vary_set]
+            if fixed_names:
+                only = [k for k in (only if only is not None else st.names) if k not in fixed_names]
+            sf = _fit_stage(st, data, p, vary_only=only, nominal=nominal, version=version, cost=cost, notes=notes,
+                            multistart=multistart)
+            if sf is None:
+                continue
+            fits[st.name] = sf
+    if not fits:
+        raise DataError(f"{', '.join(data.sources)}: no stage could be fitted (need slip-angle sweeps with fy or "
+                        "slip-ratio sweeps with fx)")
+    if not all(np.isfinite(v) for v in p.values() if isinstance(v, float)):
+        raise FitError("the Magic Formula fit produced non-finite coefficients; check the data (units, signs)")
+    if "Fy0" in fits and fits["Fy0"].varied:
+        _check_orientation(data, p, version)
+    return FitResultMF.build(p, fits, data, model=model, version=version, cost=cost, notes=notes,
+                             tyre_info=dict(tyre_info or {}), seconds=time.perf_counter() - t0, effects=effects)
+
+
+def _check_orientation(data: MFData, p, version) -> None:
+    pts = data.subset(("lateral",), "fy")
+    if len(pts) < 10:
+        return
+    if _orientation(pts, "slip_angle", "fy") < 0:
+        raise DataError(f"{', '.join(data.sources)}: the lateral force rises with slip angle; in ISO-W (tyrefit's "
+                        "convention) a positive slip angle gives a negative lateral force. If the file uses the SAE "
+                        "convention (FSAE TTC), pass --convention sae")
+
+
+from .mf_result import FitResultMF  # noqa: E402  (the result container lives beside the fitter)

@@ -1,0 +1,402 @@
+"""The result of a Magic Formula fit: the parameter set, what was fitted, and how well.
+
+:class:`FitResultMF` is returned by :func:`tyrefit.fitting.mf.fit_mf`.  It
+holds the complete MF parameter set (neutral where not fitted), the stage
+results, the per-channel statistics over every measured point (the model is
+evaluated at each point's measured load, slips, camber, pressure and speed),
+the error per condition cell, and writes the ``FITTYP = 61`` file
+(:func:`tyrefit.io.mf_tir.write_mf_tir`) and a self-contained HTML report
+(:class:`tyrefit.io.report.Report`).
+
+Statistics
+----------
+* RMSE per channel [N or N*m] over every point where the channel is measured;
+  R^2 = 1 - SS_res/SS_tot;
+* noise floor per channel: within each sweep sorted by its slip, each interior
+  point against the straight line through its neighbours (robust scale), as
+  :func:`tyrefit.fitting.engine.noise_floor`: what no single-valued curve can
+  go below (hysteresis counts as noise);
+* condition cells: sweeps grouped by kind, load level, pressure, camber and
+  slip angle (combined); RMSE per cell in % of the cell's peak |F|.
+
+Figures (matplotlib object API, ``ax=None`` -> a new Figure, the Axes returned)
+------------------------------------------------------------------------------
+``plot_curves`` (Fx vs kappa, Fy vs alpha, Mz vs alpha, Fy vs kappa at each
+alpha, model over data at each load), ``plot_cells`` (error per cell),
+``plot_friction_ellipse`` (Fx against Fy of the combined sweeps, model and
+data, with the Kamm circle mu Fz of the fitted friction).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .. import __version__
+
+__all__ = ["FitResultMF"]
+
+_DEG = math.pi / 180.0
+_UNIT = {"fx": "N", "fy": "N", "mz": "N·m", "mx": "N·m", "my": "N·m"}
+_SLIP = {"longitudinal": "slip_ratio", "lateral": "slip_angle", "combined": "slip_ratio"}
+
+
+def _noise_floor(df: pd.DataFrame, channel: str) -> float:
+    out, n = [], []
+    for _, g in df.groupby("run", sort=True):
+        slip = _SLIP[g["kind"].iloc[0]]
+        x = g[slip].to_numpy(float)
+        y = g[channel].to_numpy(float)
+        ok = np.isfinite(x) & np.isfinite(y)
+        x, y = x[ok], y[ok]
+        if len(x) < 5:
+            continue
+        o = np.argsort(x, kind="stable")
+        x, y = x[o], y[o]
+        span = x[2:] - x[:-2]
+        okk = span > 0
+        w1 = np.where(okk, (x[2:] - x[1:-1]) / np.where(okk, span, 1.0), 0.5)
+        w2 = 1.0 - w1
+        e = (y[1:-1] - (w1 * y[:-2] + w2 * y[2:])) / np.sqrt(1.0 + w1**2 + w2**2)
+        out.append(1.4826 * float(np.median(np.abs(e - np.median(e)))))
+        n.append(len(x))
+    if not out:
+        return float("nan")
+    n = np.asarray(n, float)
+    return float(np.sqrt(np.sum(n * np.asarray(out) ** 2) / np.sum(n)))
+
+
+@dataclass
+class FitResultMF:
+    """A fitted Magic Formula tyre and the statistics of the fit.
+
+    Attributes
+    ----------
+    params : dict
+        the complete parameter set (.tir keys, upper case, SI).
+    model : str
+        ``'mf61'`` or ``'mf52'``.
+    stages : dict of str -> StageFit
+        per stage: varied and held coefficients (with reasons), start values,
+        objective, evaluations, seconds, constraint checks.
+    data : MFData
+        the prepared points with ``model_<channel>`` columns added.
+    stats : dict of channel -> dict
+        ``rmse``, ``r2``, ``noise_floor``, ``n``, ``unit``, ``peak``.
+    cells : DataFrame
+        RMSE per condition cell and channel.
+    not_identifiable : dict
+        coefficient -> reason it was held.
+    fitted : list of str
+    notes : list of str
+    """
+
+    params: dict
+    model: str
+    version: str
+    cost: str
+    stages: dict
+    data: object
+    stats: dict
+    cells: pd.DataFrame
+    not_identifiable: dict
+    fitted: list
+    notes: list = field(default_factory=list)
+    tyre_info: dict = field(default_factory=dict)
+    seconds: float = 0.0
+    effects: list = field(default_factory=list)
+
+    # ------------------------------------------------------------------ building
+    @classmethod
+    def build(cls, p, fits, data, *, model, version, cost, notes, tyre_info, seconds, effects=None):
+        from .mf import _Eval, _mf61  # noqa: F401
+
+        mf = _mf61()
+        df = data.df
+        kw = {"version": version} if version != "6.1" else {}
+        pr = df["pressure"].to_numpy(float)
+        sp = df["speed"].to_numpy(float)
+        # pure-slip sweeps are evaluated as pure slip, as they are fitted: a cornering sweep at kappa = 0 (the
+        # rig's slip-ratio noise, +-0.002 on TTC records, times K_x would otherwise be the "model" Fx), a
+        # drive/brake sweep at alpha = 0
+        kind = df["kind"].to_numpy()
+        kap = np.where(kind == "lateral", 0.0, df["slip_ratio"].to_numpy(float))
+        alp = np.where(kind == "longitudinal", 0.0, df["slip_angle"].to_numpy(float))
+        out = mf.forces(p, df["fz"].to_numpy(float), slip_ratio=kap, slip_angle=alp, camber=df["camber"].to_numpy(float),
+                        pressure=np.where(np.isfinite(pr), pr, p.get("NOMPRES")) if np.isfinite(pr).any() else None,
+                        speed=np.where(np.isfinite(sp), sp, p.get("LONGVL")) if np.isfinite(sp).any() else None, **kw)
+        stats = {}
+        for c in ("fx", "fy", "mz", "mx", "my"):
+            m = np.asarray(out.get(c, np.full(len(df), np.nan)), float)
+            df[f"model_{c}"] = m
+            y = df[c].to_numpy(float)
+            ok = np.isfinite(y) & np.isfinite(m)
+            if ok.sum() < 10:
+                continue
+            # only channels the fit was asked to carry: a channel with no fitted stage is reported, not hidden
+            res = m[ok] - y[ok]
+            sst = float(np.sum((y[ok] - y[ok].mean()) ** 2))
+            stats[c] = {"rmse": float(np.sqrt(np.mean(res**2))), "r2": 1.0 - float(np.sum(res**2)) / sst if sst > 0
+                        else float("nan"), "noise_floor": _noise_floor(df[np.isfinite(df[c])], c), "n": int(ok.sum()),
+                        "unit": _UNIT[c], "peak": float(np.max(np.abs(y[ok]))),
+                        "fitted": any(f.channel == c and f.varied for f in fits.values())}
+        held: dict[str, str] = {}
+        fitted: list[str] = []
+        for f in fits.values():
+            fitted += [k for k in f.varied if k not in fitted]
+            for k, why in f.held.items():
+                held.setdefault(k, why)
+        cells = _cells(df)
+        return cls(params=dict(p), model=model, version=version, cost=cost, stages=fits, data=data, stats=stats,
+                   cells=cells, not_identifiable=held, fitted=fitted, notes=list(dict.fromkeys(notes)),
+                   tyre_info=dict(tyre_info), seconds=float(seconds), effects=list(effects or []))
+
+    # ------------------------------------------------------------------ numbers
+    @property
+    def rmse(self) -> float:
+        """Lateral-force RMSE [N] (the diagnose figure); Fx when no Fy is measured."""
+        s = self.stats.get("fy") or self.stats.get("fx")
+        return float(s["rmse"]) if s else float("nan")
+
+    def ranges(self) -> dict[str, tuple[float, float]]:
+        """Fitted operating ranges (SI): fz, slip_ratio, slip_angle, camber, pressure."""
+        df = self.data.df
+        out = {"fz": (float(df["fz"].min()), float(df["fz"].max())),
+               "camber": (float(df["camber"].min()), float(df["camber"].max()))}
+        lon = df[df["kind"] != "lateral"]
+        lat = df[df["kind"] != "longitudinal"]
+        if len(lon):
+            out["slip_ratio"] = (float(lon["slip_ratio"].min()), float(lon["slip_ratio"].max()))
+        if len(lat):
+            out["slip_angle"] = (float(lat["slip_angle"].min()), float(lat["slip_angle"].max()))
+        pr = df["pressure"].to_numpy(float)
+        if np.isfinite(pr).any():
+            out["pressure"] = (float(np.nanmin(pr)), float(np.nanmax(pr)))
+        return out
+
+    def header(self) -> list[str]:
+        lines = [f"tyrefit {__version__}: Magic Formula {self.version} fit ({self.cost} cost on mu, staged "
+                 f"{' -> '.join(self.stages)})"]
+        for s in self.data.sources:
+            lines.append(f"data: {os.path.basename(str(s))}")
+        for c, s in self.stats.items():
+            lines.append(f"RMSE {c.upper()} {s['rmse']:.4g} {s['unit'].replace('·', '*')} (R2 {s['r2']:.4f}, noise "
+                         f"floor {s['noise_floor']:.3g}){'' if s['fitted'] else ' - not fitted'}")
+        if self.effects:
+            lines.append("Fy0 effects: " + ", ".join(self.effects))
+        return lines
+
+    def write_tir(self, path, *, force: bool = False) -> Path:
+        """Write the ``FITTYP = 61`` property file (every coefficient; neutral where not fitted)."""
+        from ..io.mf_tir import write_mf_tir
+
+        from .mf import STAGES
+
+        not_fitted = [s.name.lower() for s in STAGES
+                      if s.name not in self.stages or not self.stages[s.name].varied]
+        held = sorted(k for k in self.not_identifiable if k not in self.fitted
+                      and any(k in self.stages[s].held for s in self.stages if self.stages[s].varied))
+        if held:
+            not_fitted.append("held at neutral values (not identifiable from these data): " + ", ".join(held))
+        write_mf_tir(self.params, path, ranges=self.ranges(), header=tuple(self.header()),
+                     not_fitted=tuple(not_fitted), force=force)
+        return Path(path)
+
+    def summary(self) -> str:
+        lines = [f"Magic Formula {self.version} fit, {len(self.fitted)} coefficients fitted in {self.seconds:.1f} s"]
+        for name, f in self.stages.items():
+            lines.append(f"  {name}: {len(f.varied)} varied, {f.n_points} points in {f.n_sweeps} sweeps, "
+                         f"{f.nfev} evaluations, {f.seconds:.2f} s")
+        for c, s in self.stats.items():
+            lines.append(f"  {c}: RMSE {s['rmse']:.4g} {s['unit']} (R² {s['r2']:.4f}, noise floor "
+                         f"{s['noise_floor']:.3g} {s['unit']})")
+        return "\n".join(lines)
+
+    # ------------------------------------------------------------------ figures
+    def plot_curves(self, kind: str = "lateral", channel: str | None = None, ax=None, *, max_loads: int = 5):
+        """Model over data along the sweep's slip at each load (nominal pressure, camber nearest 0).
+
+        ``kind``: 'longitudinal' (Fx vs kappa), 'lateral' (Fy or Mz vs alpha,
+        ``channel``), 'combined' (Fy vs kappa at each slip angle, or Fx).
+        """
+        from matplotlib.figure import Figure
+
+        if ax is None:
+            ax = Figure(figsize=(6.4, 4.2)).subplots()
+        channel = channel or {"longitudinal": "fx", "lateral": "fy", "combined": "fy"}[kind]
+        df = self.data.df
+        d = df[(df["kind"] == kind) & np.isfinite(df[channel])]
+        if d.empty:
+            ax.text(0.5, 0.5, f"no {kind} sweeps with {channel}", ha="center", transform=ax.transAxes)
+            return ax
+        d = _nominal_slice(d, self.params)
+        slip = _SLIP[kind]
+        xs = 100.0 if slip == "slip_ratio" else 1 / _DEG
+        from .initial import load_levels
+
+        if kind == "combined":
+            key = np.round(d["slip_angle"].groupby(d["run"]).transform("median") / _DEG).astype(int)
+            groups = sorted(set(key))
+            lab = "α = {} deg"
+        else:
+            lv = load_levels(d.groupby("run")["fz"].transform("mean").to_numpy())
+            key = pd.Series(lv, index=d.index)
+            groups = sorted(set(key))[:max_loads]
+            lab = "Fz ≈ {:.0f} N"
+        cmap = __import__("matplotlib").colormaps["viridis"]
+        for i, gk in enumerate(groups):
+            g = d[key == gk]
+            col = cmap(i / max(1, len(groups) - 1))
+            ax.plot(g[slip] * xs, g[channel], ".", ms=2, color=col, alpha=0.4)
+            o = np.argsort(g[slip].to_numpy())
+            label = lab.format(gk) if kind == "combined" else lab.format(g["fz"].mean())
+            ax.plot(g[slip].to_numpy()[o] * xs, g[f"model_{channel}"].to_numpy()[o], "-", lw=1.2, color=col,
+                    label=label)
+        ax.set_xlabel("slip ratio [%]" if slip == "slip_ratio" else "slip angle [deg]")
+        ax.set_ylabel(f"{channel.upper()} [{_UNIT[channel]}]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+        return ax
+
+    def plot_cells(self, ax=None):
+        """RMSE per condition cell in % of the cell's peak, per channel."""
+        from matplotlib.figure import Figure
+
+        if ax is None:
+            ax = Figure(figsize=(7.5, 3.8)).subplots()
+        c = self.cells
+        if c.empty:
+            return ax
+        for ch, g in c.groupby("channel"):
+            ax.plot(np.arange(len(g)), g["rmse_pct_peak"], "o-", ms=3, label=ch.upper())
+        ax.set_xlabel("condition cell (kind, load, pressure, camber, slip angle)")
+        ax.set_ylabel("RMSE [% of the cell's peak]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+        return ax
+
+    def plot_friction_ellipse(self, ax=None):
+        """Fy against Fx of the combined sweeps (data and model), with the Kamm circle of the fitted mu."""
+        from matplotlib.figure import Figure
+
+        if ax is None:
+            ax = Figure(figsize=(5.2, 5.2)).subplots()
+        df = self.data.df
+        d = df[(df["kind"] != "lateral") & np.isfinite(df["fx"]) & np.isfinite(df["fy"])]
+        d = _nominal_slice(d, self.params) if len(d) else d
+        if d.empty:
+            ax.text(0.5, 0.5, "no sweeps with both Fx and Fy", ha="center", transform=ax.transAxes)
+            return ax
+        fz = float(d["fz"].median())
+        near = d[np.abs(d["fz"] - fz) < 0.15 * fz]
+        ax.plot(near["fx"], near["fy"], ".", ms=2, alpha=0.35, color="0.4", label="data")
+        ax.plot(near["model_fx"], near["model_fy"], ".", ms=2, color="C3", label="model")
+        mu = self.params.get("PDX1", 1.0), self.params.get("PDY1", 1.0)
+        t = np.linspace(0, 2 * np.pi, 200)
+        ax.plot(mu[0] * fz * np.cos(t), mu[1] * fz * np.sin(t), "k--", lw=0.8,
+                label=f"friction ellipse μx={mu[0]:.2f}, μy={mu[1]:.2f}")
+        ax.plot(max(mu) * fz * np.cos(t), max(mu) * fz * np.sin(t), ":", color="0.5", lw=0.8, label="Kamm circle")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("Fx [N]")
+        ax.set_ylabel("Fy [N]")
+        ax.set_title(f"Fz ≈ {fz:.0f} N", fontsize=9)
+        ax.legend(fontsize=7)
+        return ax
+
+    # ------------------------------------------------------------------ report
+    def report_blocks(self, r) -> None:
+        from matplotlib.figure import Figure
+
+        r.h2("Fit quality per channel")
+        r.table([{"channel": c.upper(), "RMSE": s["rmse"], "unit": s["unit"], "R²": s["r2"],
+                  "noise floor": s["noise_floor"], "RMSE/noise": s["rmse"] / s["noise_floor"]
+                  if s["noise_floor"] > 0 else float("nan"), "points": s["n"], "fitted": s["fitted"]}
+                 for c, s in self.stats.items()])
+        r.h2("Stages")
+        r.table([{"stage": n, "channel": f.channel.upper(), "points": f.n_points, "sweeps": f.n_sweeps,
+                  "varied": ", ".join(f.varied), "evaluations": f.nfev, "seconds": f.seconds}
+                 for n, f in self.stages.items()])
+        panels = [("longitudinal", "fx", "Fx vs slip ratio (pure)"), ("lateral", "fy", "Fy vs slip angle (pure)"),
+                  ("lateral", "mz", "Mz vs slip angle (pure)"), ("combined", "fy", "Fy vs slip ratio at each α"),
+                  ("combined", "fx", "Fx vs slip ratio at each α")]
+        panels = [pp for pp in panels if pp[1] in self.stats]
+        if panels:
+            fig = Figure(figsize=(12, 3.8 * math.ceil(len(panels) / 2)))
+            axes = np.atleast_1d(fig.subplots(math.ceil(len(panels) / 2), 2)).ravel()
+            for ax, (kind, ch, title) in zip(axes, panels):
+                self.plot_curves(kind, ch, ax=ax)
+                ax.set_title(title, fontsize=9)
+            for ax in axes[len(panels):]:
+                ax.set_visible(False)
+            fig.tight_layout()
+            r.figure(fig, "Model (lines) over data (dots) at the nominal pressure and the camber nearest 0")
+        fig = Figure(figsize=(12, 4.2))
+        a1, a2 = fig.subplots(1, 2)
+        self.plot_cells(a1)
+        self.plot_friction_ellipse(a2)
+        fig.tight_layout()
+        r.figure(fig, "Error per condition cell; friction ellipse / Kamm circle")
+        if not self.cells.empty:
+            r.h3("Error per condition cell")
+            r.table(self.cells)
+        r.h2("Coefficients")
+        rows = []
+        for n, f in self.stages.items():
+            for k in f.varied:
+                rows.append({"stage": n, "name": k, "value": self.params[k], "stderr": f.stderr.get(k, float("nan")),
+                             "initial": f.initial.get(k, float("nan"))})
+        r.table(rows)
+        if self.not_identifiable:
+            r.h3("Held (not identifiable from these data)")
+            r.table([{"name": k, "value": self.params.get(k, float("nan")), "reason": v}
+                     for k, v in self.not_identifiable.items()])
+        cons = [c for f in self.stages.values() for c in f.constraints]
+        if cons:
+            r.h3("Physical constraints over the fitted range (grid of load, pressure, camber, slip sign)")
+            r.table(cons)
+        if self.notes:
+            r.h3("Notes")
+            r.bullets(self.notes)
+
+
+def _nominal_slice(d: pd.DataFrame, p) -> pd.DataFrame:
+    """Sweeps at the pressure nearest NOMPRES and the camber nearest 0."""
+    cond = d.groupby("run")[["pressure", "camber"]].transform("mean")
+    if np.isfinite(cond["pressure"]).any():
+        dp = np.abs(cond["pressure"] - p.get("NOMPRES", 0.0))
+        d, cond = d[dp <= dp.min() + 5e3], cond[dp <= dp.min() + 5e3]
+    dc = np.abs(cond["camber"])
+    return d[dc <= dc.min() + 0.25 * _DEG]
+
+
+def _cells(df: pd.DataFrame) -> pd.DataFrame:
+    from .initial import load_levels
+
+    sw = df.groupby("run").agg(fz=("fz", "mean"), pressure=("pressure", "mean"), camber=("camber", "mean"),
+                               alpha=("slip_angle", "median"), kind=("kind", "first"))
+    sw["load_level"] = load_levels(sw["fz"].to_numpy())
+    lv = sw.groupby("load_level")["fz"].transform("mean")
+    sw["fz_cell"] = np.round(lv, -1)
+    sw["p_cell"] = np.round(sw["pressure"] / 1e3).fillna(-1)
+    sw["gamma_cell"] = np.round(sw["camber"] / _DEG, 1)
+    sw["alpha_cell"] = np.where(sw["kind"] == "combined", np.round(sw["alpha"] / _DEG), 0.0)
+    key = ["kind", "fz_cell", "p_cell", "gamma_cell", "alpha_cell"]
+    d = df.join(sw[key[1:]], on="run")
+    rows = []
+    for c in ("fx", "fy", "mz", "mx", "my"):
+        if f"model_{c}" not in d:
+            continue
+        e = d[np.isfinite(d[c]) & np.isfinite(d[f"model_{c}"])]
+        for k, g in e.groupby(key, sort=True):
+            res = g[f"model_{c}"] - g[c]
+            pk = float(np.max(np.abs(g[c]))) or 1.0
+            rows.append({"channel": c, "kind": k[0], "fz [N]": k[1], "pressure [kPa]": k[2] if k[2] >= 0 else None,
+                         "camber [deg]": k[3], "slip angle [deg]": k[4], "n": len(g),
+                         "rmse": float(np.sqrt(np.mean(res**2))), "bias": float(res.mean()),
+                         "rmse_pct_peak": 100.0 * float(np.sqrt(np.mean(res**2))) / pk})
+    return pd.DataFrame(rows)
