@@ -285,3 +285,61 @@ def test_nominal_values_and_validity():
     assert v["fz"] == (1750.0, 78750.0) and v["slip_ratio"] == (-1.5, 1.5)
     p = read_tyre(EXAMPLE)
     assert p.validity()["fz"] == (1000.0, 10000.0)  # no FZMIN/FZMAX, no FNOMIN: the documented fallback
+
+
+# --------------------------------------------------------------------------- sim and compare take any family
+
+MF61 = DATA / "mfeval_MagicFormula61_Paramerters.tir"
+
+
+@pytest.fixture(scope="module")
+def hard_mf61(tmp_path_factory) -> Path:
+    """MFeval's MF 6.1 example with LMUX = 0.85: the 'hard' (lower-grip) front tyre of seed 000's scenario."""
+    text = MF61.read_text()
+    lines = [("LMUX = 0.85" if ln.split("=")[0].strip().upper() == "LMUX" else ln) for ln in text.splitlines()]
+    p = tmp_path_factory.mktemp("mf") / "hard61.tir"
+    p.write_text("\n".join(lines) + "\n")
+    return p
+
+
+def test_sim_braking_runs_with_mf_tyres(hard_mf61, tmp_path, capsys):
+    import json
+
+    from tyrefit.cli import main
+    from tyrefit.sim.tyres import AxleTyre
+
+    js = tmp_path / "b.json"
+    assert main(["sim", "braking", "--front", str(hard_mf61), "--rear", str(MF61), "--json", str(js)]) == 0
+    doc = json.loads(js.read_text())
+    rows = doc["rows"]
+    assert len(rows) == 12 and all(r["stopping_distance_m"] > 0 for r in rows)
+    for base, low in zip(rows[::2], rows[1::2]):  # the lower-grip front stops later
+        assert base["vehicle"] == "base" and low["vehicle"] == "low_wear"
+        assert low["stopping_distance_m"] > base["stopping_distance_m"]
+    # the axle curves are the MF 6.1 evaluator's (pure slip, both tyres of the axle)
+    t = read_tyre(MF61)
+    axle = AxleTyre(t, 4000.0)
+    k = np.linspace(-0.3, 0.3, 61)
+    ref = mf61.forces(t.params, 4000.0, slip_ratio=k, version="6.1")["fx"]
+    # two tyres, the right one mirrored: Fx is unchanged by the mirror at zero slip angle and camber
+    np.testing.assert_allclose(axle.fx(k), 2 * ref, rtol=2e-3, atol=2.0)
+
+
+def test_sim_and_compare_refuse_unphysical_tyre_files(tmp_path, capsys):
+    from tyrefit.cli import main
+
+    bad = tmp_path / "bad.tir"
+    bad.write_text(EXAMPLE.read_text().replace("a0  = 1.65", "a0  = -1.65"))
+    assert main(["sim", "braking", "--front", str(bad), "--rear", str(EXAMPLE)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "not physical" in err[0] and "--allow-unphysical" in err[0]
+    assert main(["compare", str(bad), str(EXAMPLE)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "C <= 0" in err[0]
+    assert main(["compare", str(bad), str(EXAMPLE), "--allow-unphysical"]) == 0
+
+
+def test_compare_pac89_against_mf(capsys):
+    from tyrefit.cli import main
+
+    assert main(["compare", str(EXAMPLE), str(MF61)]) == 0

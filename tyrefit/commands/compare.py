@@ -51,6 +51,10 @@ def run(args) -> int:
     check_outputs(args)
     ta = read_tyre(args.tyre_a)
     tb = read_tyre(args.tyre_b)
+    from ..tyres.base import require_physical  # unphysical over the declared range: refused unless allowed
+
+    for path, tyre in ((args.tyre_a, ta), (args.tyre_b, tb)):
+        require_physical(tyre, str(path), allow_unphysical=getattr(args, "allow_unphysical", False))
     data = None
     if args.data:
         from ..io.readers import read_data

@@ -59,8 +59,9 @@ def _setup(args):
     from ..sim.scenarios import SimSetup
     from ..sim.tyres import default_tyres, load_tyre
 
-    front = load_tyre(args.front) if getattr(args, "front", None) else None
-    rear = load_tyre(args.rear) if getattr(args, "rear", None) else None
+    allow = getattr(args, "allow_unphysical", False)
+    front = load_tyre(args.front, allow_unphysical=allow) if getattr(args, "front", None) else None
+    rear = load_tyre(args.rear, allow_unphysical=allow) if getattr(args, "rear", None) else None
     if front is None or rear is None:
         f0, r0 = default_tyres()
         front = front or f0

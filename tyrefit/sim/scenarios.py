@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import DataError
-from ..tyres.pac89 import Pac89Tyre
+from ..tyres.base import Tyre
 from .allocator import (AxleLimits, EqualSplit, ForceTrackingController, PeakShareSlipLimit, WearAwareAllocator,
                         resolve_slip_limit)
 from .driver import (BrakeDriver, ComfortLimits, DriverLine, PathDriver, ReplayDriver, SteeringLimits,
@@ -77,7 +77,7 @@ class SimSetup:
 
     Parameters
     ----------
-    front, rear : Pac89Tyre
+    front, rear : Tyre
         Low-wear front (hard) and rear (soft) tyres; the base vehicle runs the
         rear tyre on both axles.
     vehicle : VehicleParams
@@ -100,8 +100,8 @@ class SimSetup:
     speeds_kmh, conditions : tuple
     """
 
-    front: Pac89Tyre
-    rear: Pac89Tyre
+    front: Tyre
+    rear: Tyre
     vehicle: VehicleParams = DEFAULT_VEHICLE
     emission: QuadraticEmission = DEFAULT_EMISSION
     traction_b: float | None = None

@@ -2,12 +2,15 @@
 
 Seed 000's bicycle model evaluates each axle's tyre curves at the static axle
 load (no load transfer, Eq. 8-9): F_x,i = eta F_z,i M_x,i(lambda_i) and
-F_y,i = eta F_z,i M_y,i(alpha_i).  With fitted PAC89 tyres the curves come
-from the ``.tir`` at that load.  :class:`AxleTyre` tabulates the axle's two
-tyres once (a left tyre and its mirror image on the right, so conicity and
-ply-steer offsets cancel as on a real axle) on dense slip grids and
-interpolates, which keeps the time loop fast and the ISO-W <-> PAC89 mapping
-where it lives (:mod:`tyrefit.models.pac89`).
+F_y,i = eta F_z,i M_y,i(alpha_i).  The curves come from any tyre behind the
+:class:`~tyrefit.tyres.base.Tyre` interface (a fitted PAC89 ``.tir``, a vendor's
+MF 5.2 / PAC2002 or MF 6.1 / 6.2 file, a Chrono PAC89 JSON) at that load, in
+pure slip (the bicycle model of seed 000 takes Fx from the slip ratio and Fy
+from the slip angle), at the tyre's nominal pressure and speed.
+:class:`AxleTyre` tabulates the axle's two tyres once (a left tyre and its
+mirror image on the right, so conicity and ply-steer offsets cancel as on a
+real axle) on dense slip grids and interpolates, which keeps the time loop
+fast and each family's sign mapping where it lives (its model module).
 
 Also here: the bundled default tyres of ``tyrefit sim`` (hard front, soft
 rear) and :func:`fit_vehicle_tyres`, which makes them from the bundled
@@ -24,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError, ModelError
-from ..tyres.pac89 import Pac89Tyre
+from ..tyres.base import Tyre, require_physical
 
 try:  # the compiled routine behind np.interp, without its Python-level checks (hot loop)
     from numpy._core.multiarray import interp as _interp
@@ -60,8 +63,8 @@ class AxleTyre:
 
     Parameters
     ----------
-    tyre : Pac89Tyre
-        The (left) tyre; the right one is its mirror image.
+    tyre : Tyre
+        The (left) tyre, any family; the right one is its mirror image.
     fz : float
         Load per tyre [N].
     n_tyres : int
@@ -75,7 +78,7 @@ class AxleTyre:
     by eta (seed 000 Eq. 8-9), which scales the curve without moving its peak.
     """
 
-    tyre: Pac89Tyre
+    tyre: Tyre
     fz: float
     n_tyres: int = 2
     n_points: int = 6001
@@ -88,8 +91,8 @@ class AxleTyre:
 
     def __post_init__(self) -> None:
         if not self.tyre.has_longitudinal:
-            raise ModelError(f"tyre {self.tyre.name!r} has no longitudinal coefficients (b0..b10); the vehicle "
-                             "simulation needs Fx: fit it with slip-ratio data")
+            raise ModelError(f"tyre {self.tyre.name!r} has no longitudinal model; the vehicle simulation needs Fx: "
+                             "fit it with slip-ratio data")
         if not (self.fz > 0):
             raise ModelError(f"axle load per tyre must be positive, got {self.fz!r} N")
         self.slip_ratio_grid = _grid(1.0, self.n_points)
@@ -101,6 +104,9 @@ class AxleTyre:
                                 + np.asarray(right.fx(fz, self.slip_ratio_grid)))
         self.fy_table = half * (np.asarray(left.fy(fz, self.slip_angle_grid))
                                 + np.asarray(right.fy(fz, self.slip_angle_grid)))
+        if not (np.all(np.isfinite(self.fx_table)) and np.all(np.isfinite(self.fy_table))):
+            raise ModelError(f"tyre {self.tyre.name!r} gives non-finite forces at {fz:.0f} N; the simulation "
+                             "cannot use it")
         self.dfx_table = np.gradient(self.fx_table, self.slip_ratio_grid)
         self.dfy_table = np.gradient(self.fy_table, self.slip_angle_grid)
         i = int(np.argmax(self.fx_table))
@@ -179,19 +185,30 @@ class AxleTyre:
 
 # ------------------------------------------------------------------------------ files
 
-def load_tyre(path: str | os.PathLike) -> Pac89Tyre:
-    """Read a PAC89 ``.tir`` (or Chrono JSON) for the simulation; it must have Fx and Fy."""
+def load_tyre(path: str | os.PathLike, allow_unphysical: bool = False) -> Tyre:
+    """Read any tyre file for the simulation (PAC89, MF 5.2, MF 6.1/6.2, Chrono JSON).
+
+    It must model Fx and Fy, and be physical over its declared range
+    (:meth:`~tyrefit.tyres.base.Tyre.check`) unless ``allow_unphysical``.
+    """
+    from ..io.tir import read_tyre
+
     p = Path(path)
     if not p.exists():
         raise DataError(f"{p}: tyre file not found")
-    tyre = Pac89Tyre.from_file(p)
-    if not tyre.has_longitudinal:
-        raise ModelError(f"{p}: the tyre has no longitudinal coefficients (b0..b10 are zero); the vehicle "
-                         "simulation needs Fx: fit it with slip-ratio data")
+    if p.is_dir():
+        raise DataError(f"{p}: is a folder; give a tyre file (.tir or Chrono .json)")
+    tyre = read_tyre(p)
+    require_physical(tyre, str(p), allow_unphysical=allow_unphysical)
+    for part, ok, need in (("longitudinal", tyre.has_longitudinal, "slip-ratio"),
+                           ("lateral", tyre.has_lateral, "slip-angle")):
+        if not ok:
+            raise ModelError(f"{p}: the tyre has no {part} model; the vehicle simulation needs Fx and Fy: fit it "
+                             f"with {need} data")
     return tyre
 
 
-def default_tyres() -> tuple[Pac89Tyre, Pac89Tyre]:
+def default_tyres() -> tuple[Tyre, Tyre]:
     """The bundled (front, rear) = (hard, soft) tyres of ``tyrefit sim`` (``data/sim/*.tir``).
 
     They are PAC89 fits of the bundled synthetic data by the package's fitter
@@ -232,8 +249,8 @@ def fit_vehicle_tyres(data_dir: str | os.PathLike, out_dir: str | os.PathLike,
         info["header"] = [f"{'front (hard, low-wear)' if role == 'front' else 'rear (soft)'} tyre of tyrefit sim; "
                           "data SYNTHETIC, generated by tyrefit.synthetic.vehicle_tyres"]
         tyre = fit_pac89(read_data(path), tyre_info=info).tyre
-        missing = [part for part, ok in (("lateral", any(tyre.coefficients[f"a{i}"] for i in range(14))),
-                                         ("longitudinal", tyre.has_longitudinal)) if not ok]
+        missing = [part for part, ok in (("lateral", tyre.has_lateral), ("longitudinal", tyre.has_longitudinal))
+                   if not ok]
         if missing:
             raise DataError(f"{path}: the fit has no {' and no '.join(missing)} coefficients; the simulation "
                             "needs slip-angle and slip-ratio sweeps")

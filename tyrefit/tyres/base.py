@@ -84,6 +84,8 @@ class Tyre(abc.ABC):
         [rad], ``slip_ratio`` [-], ``camber`` [rad], ``pressure`` [Pa].
     combined : bool
         whether :meth:`forces` applies combined slip.
+    inputs : tuple of str
+        the operating-point inputs the model responds to (PAC89: no pressure or speed).
     outputs : tuple of str
         the keys :meth:`forces` returns.
     """
@@ -92,6 +94,8 @@ class Tyre(abc.ABC):
     name: str = "tyre"
     combined: bool = False
     outputs: tuple[str, ...] = ("fx", "fy", "mz")
+    #: the operating-point inputs the model responds to
+    inputs: tuple[str, ...] = ("fz", "slip_angle", "slip_ratio", "camber")
 
     # Subclasses that are dataclasses define these as fields; the defaults keep the ABC usable.
     fnomin: float | None = None
@@ -269,6 +273,7 @@ class MirroredTyre(Tyre):
         self.name = tyre.name
         self.combined = tyre.combined
         self.outputs = tyre.outputs
+        self.inputs = tyre.inputs
         for k in ("fnomin", "unloaded_radius", "width", "nominal_pressure", "nominal_speed"):
             setattr(self, k, getattr(tyre, k))
         side = str(getattr(tyre, "tyreside", "LEFT")).upper()

@@ -80,6 +80,9 @@ class MFTyre(Tyre):
         self.params = {str(k).upper(): float(v) for k, v in dict(self.params).items()}
         if self.family not in ("MF52", "MF61"):
             raise ModelError(f"MF family must be 'MF52' or 'MF61', got {self.family!r}")
+        # MF 5.2 has no pressure terms; both respond to speed (LMUV, low-speed reductions, My)
+        self.inputs = ("fz", "slip_angle", "slip_ratio", "camber", "speed") + (
+            ("pressure",) if self.family == "MF61" else ())
 
     # -- the Tyre interface ---------------------------------------------------------
     def forces(self, fz, slip_angle=0.0, slip_ratio=0.0, camber=0.0, pressure=None, speed=None):
