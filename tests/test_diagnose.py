@@ -440,7 +440,7 @@ def test_cli_diagnose_rejects_static_data(tmp_path, capsys):
     pd.DataFrame({"lateral_displacement [mm]": np.linspace(0, 50, 30), "fy [N]": np.linspace(0, 9000, 30),
                   "fz [N]": 40000.0}).to_csv(p, index=False)
     assert main(["diagnose", str(p), "--json", str(tmp_path / "o.json")]) == 2
-    assert "slip-angle sweeps" in capsys.readouterr().err
+    assert "needs --patch" in capsys.readouterr().err
 
 
 # --- bundled passenger tyre ------------------------------------------------------------------------
@@ -467,13 +467,17 @@ def test_bundled_passenger_tyre_recovers_its_hidden_truth():
     assert dg.unexplained["summary"].startswith("no structure detected")
 
 
-def test_too_few_sweeps_is_not_testable_rather_than_not_significant():
+def test_three_sweeps_at_one_load_still_test_camber_and_say_why_load_laws_cannot_be():
+    """No 'needs >= 8 sweeps' rule: three camber sweeps at one load find the camber effect; the load laws are
+    untestable with one load, and the advice names the loads that would decide them."""
     case = make_case(("camber",), "iid", seed=1, grid=rig_grid(loads=(4000.0,), pressures=(220e3,)))
     dg = diagnose(case.data, seed=1)
-    assert dg.accepted == []
-    assert all(c.status == "not testable with these data" for c in dg.candidates.values())
-    assert "only 3 sweeps" in dg.candidates["camber"].reason
-    assert dg.unexplained["summary"].startswith("cannot be checked")
+    assert dg.accepted and dg.accepted[0].startswith("camber")
+    assert dg.candidates["load_friction"].status == "not testable with these data"
+    assert "load levels (found 1)" in dg.candidates["load_friction"].reason
+    adv = {a["family"]: a for a in dg.advice}
+    assert adv["load_friction"]["status"] == "untestable" and "2.0 kN and 6.0 kN" in adv["load_friction"]["test"]
+    assert "only" not in dg.candidates["camber"].reason
 
 
 def test_single_load_level_fixes_the_load_law():
@@ -497,3 +501,212 @@ def test_noise_floor_of_sparse_sweeps_uses_one_magic_formula_per_sweep():
     floor, per = noise_floor(np.concatenate(slips), np.concatenate(fys), np.concatenate(sweeps))
     assert np.all(np.isfinite(per))
     assert floor == pytest.approx(40.0, rel=0.15)
+
+
+# --- few sweeps: the noise-model screening, hold-outs by level, advice (issue 11) ---------------------------
+def _toy_noise(kind, G, n, rng, sd=1.0, rho=0.8):
+    """Noise written independently of tyrefit.diagnose.stats: iid, sweep offsets (0.6/0.8 sd) or AR(1)."""
+    if kind == "iid":
+        return rng.normal(0, sd, G * n)
+    if kind == "offsets":
+        return (np.repeat(rng.normal(0, 0.6 * sd, G), n) + rng.normal(0, 0.8 * sd, G * n))
+    return _ar1(rng, G, n, rho, sd)
+
+
+def _toy_design(G=6, n=49):
+    """One sweep per load: odd slip shapes in the model; a load-dependent stiffness, a constant shift and a
+    load-dependent peak as candidates."""
+    u = np.tile(np.linspace(-1, 1, n), G)
+    z = np.repeat(np.linspace(-1, 1, G), n)
+    sweep = np.repeat(np.arange(G), n)
+    J_model = np.c_[u, np.tanh(3 * u), u * z]
+    cands = [(z**2 * u)[:, None], np.ones(G * n)[:, None], np.c_[z * np.tanh(3 * u), z**2 * np.tanh(3 * u)]]
+    return u, z, sweep, J_model, cands
+
+
+def test_noise_model_is_recovered_from_residuals():
+    from tyrefit.diagnose.stats import SweepLayout, estimate_noise
+
+    rng = np.random.default_rng(4)
+    G, n = 60, 49
+    e = _ar1(rng, G, n, 0.8, 30.0) + np.repeat(rng.normal(0, 15.0, G), n)
+    nm = estimate_noise(e, SweepLayout(np.repeat(np.arange(G), n), G))
+    assert nm.rho[0] == pytest.approx(0.8, abs=0.05)
+    assert np.sqrt(np.mean(nm.sd**2)) == pytest.approx(30.0, rel=0.12)
+    assert nm.tau[0] == pytest.approx(15.0, rel=0.45)
+    nm = estimate_noise(rng.normal(0, 5.0, G * n), SweepLayout(np.repeat(np.arange(G), n), G))
+    assert abs(nm.rho[0]) < 0.05 and nm.tau[0] < 1.5
+
+
+@pytest.mark.parametrize("kind", ["iid", "offsets", "ar1"])
+def test_six_sweep_screening_holds_its_level_and_has_power(kind):
+    """Six sweeps, three candidates screened together (min-p): under each noise model the family-wise false
+    alarm rate stays near 5 %; an effect of 2.5 noise sd in one candidate is found (5 sd under AR(1) noise,
+    whose slow wander looks like a smooth effect within one sweep)."""
+    from tyrefit.diagnose.stats import SweepLayout, screen_candidates
+
+    rng = np.random.default_rng({"iid": 1, "offsets": 2, "ar1": 3}[kind])
+    u, z, sweep, J_model, cands = _toy_design()
+    lay = SweepLayout(sweep, 6)
+    runs, rej, found = 150, 0, 0
+    for i in range(runs):
+        y = _toy_noise(kind, 6, 49, rng)
+        r = y - J_model @ np.linalg.lstsq(J_model, y, rcond=None)[0]
+        scr = screen_candidates(J_model, cands, r, lay, rng, n_boot=199, method="noise")
+        rej += scr.p_adjusted.min() < 0.05
+        if i < 30:
+            y = y + (5.0 if kind == "ar1" else 2.5) * z**2 * u
+            r = y - J_model @ np.linalg.lstsq(J_model, y, rcond=None)[0]
+            scr = screen_candidates(J_model, cands, r, lay, rng, n_boot=199, method="noise")
+            found += scr.p_adjusted[0] < 0.05 and np.argmax(scr.predicted_dssr) == 0
+    assert rej / runs <= 0.10  # nominal 5 %; 0.10 is 2.8 binomial sd above it
+    assert found >= 24  # 80 % power
+
+
+def test_sweep_flips_have_a_p_value_floor_with_six_sweeps_the_noise_model_does_not():
+    """Why the engine switches null with few sweeps: 2^6 sign patterns (32 up to the global flip) give a
+    p-value floor of about 1/32 however strong the effect, so after any multiple-test adjustment over the
+    catalogue (Holm over 6-13 candidates needs p < 0.004-0.008) nothing can be shown."""
+    from tyrefit.diagnose.stats import SweepLayout, screen_candidates
+
+    rng = np.random.default_rng(0)
+    u, z, sweep, J_model, cands = _toy_design()
+    y = 10.0 * z**2 * u + rng.normal(0, 1.0, u.size)
+    r = y - J_model @ np.linalg.lstsq(J_model, y, rcond=None)[0]
+    lay = SweepLayout(sweep, 6)
+    flip = screen_candidates(J_model, cands, r, lay, rng, n_boot=999, method="flip")
+    noise = screen_candidates(J_model, cands, r, lay, rng, n_boot=999, method="noise")
+    assert flip.p_value.min() >= 0.015  # 1/32 up to the bootstrap error of 999 draws
+    assert noise.p_adjusted[0] < 0.005
+
+
+def test_detectable_size_has_the_stated_power():
+    """An effect of exactly the reported smallest detectable size is found in about 80 % of data sets."""
+    from tyrefit.diagnose.stats import SweepLayout, detectable_size, screen_candidates
+
+    rng = np.random.default_rng(9)
+    u, z, sweep, J_model, cands = _toy_design()
+    cands = cands[:1]
+    lay = SweepLayout(sweep, 6)
+    y = rng.normal(0, 1.0, u.size)
+    r = y - J_model @ np.linalg.lstsq(J_model, y, rcond=None)[0]
+    scr = screen_candidates(J_model, cands, r, lay, rng, n_boot=999, method="noise")
+    b = detectable_size(scr.info[0]["fisher"], scr.info[0]["var"], scr.critical[0])[0]
+    assert np.isfinite(b) and b > 0
+    hits = 0
+    runs = 80
+    for _ in range(runs):
+        y = b * cands[0][:, 0] + rng.normal(0, 1.0, u.size)
+        r = y - J_model @ np.linalg.lstsq(J_model, y, rcond=None)[0]
+        hits += screen_candidates(J_model, cands, r, lay, rng, n_boot=199, method="noise").p_adjusted[0] < 0.05
+    assert 0.6 <= hits / runs <= 0.95
+
+
+def _forms():
+    import importlib
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    return importlib.import_module("diag_forms")
+
+
+@pytest.mark.parametrize("family", ["load_friction", "curvature_load", "offsets", "overload"])
+def test_one_sweep_per_load_finds_the_family_from_a_form_outside_the_catalogue(family):
+    """Six loads, one -12..+12 deg sweep each, truths in forms the catalogue does not contain
+    (tests/diag_forms.py): the right family first, the held-out error near the true noise."""
+    f = _forms()
+    d, rated, sigma = f.make(family, "iid", seed=11)
+    dg = diagnose(d, rated_load=rated, seed=11)
+    assert dg.accepted and EFFECTS[dg.accepted[0]].family == family
+    assert dg.steps[0].rmse_heldout > 1.15 * sigma
+    limit = 1.5 if family == "load_friction" else 1.3  # a power law is not a PAC89 parabola: see the note
+    assert dg.steps[1].rmse_heldout <= limit * sigma
+    assert dg.screening["method"] == "noise-model bootstrap"
+
+
+@pytest.mark.parametrize("kind", ["iid", "offsets", "ar1"])
+def test_one_sweep_per_load_null_accepts_nothing(kind):
+    f = _forms()
+    for seed in (21, 22):
+        d, rated, sigma = f.make(None, kind, seed=seed)
+        dg = diagnose(d, rated_load=rated, seed=seed)
+        assert dg.accepted == [], (kind, seed, dg.accepted)
+
+
+def test_held_out_extreme_loads_are_extrapolations_reported_apart():
+    f = _forms()
+    d, rated, sigma = f.make("overload", "iid", seed=3)
+    dg = diagnose(d, rated_load=rated, seed=3)
+    st = dg.steps[0]
+    lv = dg.data.level_index["fz"]
+    assert not st.inside[lv == 0].any() and not st.inside[lv == lv.max()].any() and st.inside[lv == 2].all()
+    assert np.isfinite(st.rmse_extrapolated)
+    assert st.rmse_heldout == pytest.approx(float(np.sqrt(np.mean(st.oof[st.inside] ** 2))))
+
+
+def test_guards_are_named_and_the_held_out_guard_decides():
+    from tyrefit.diagnose import engine
+
+    assert engine.heldout_gain_guard in engine.GUARDS and engine.levelout_guard in engine.GUARDS
+    assert set(engine.MANY_SWEEP_GUARDS) == {engine.fold_guard, engine.stability_guard}
+    ev = {"delta_heldout": 0.1, "delta_levelout": 1.0, "folds_improved": 1.0, "boot_prob": 1.0}
+    s = Settings()
+    assert "practical margin" in engine._confirm(ev, 0.5, s)
+    assert engine._confirm({**ev, "delta_heldout": 1.0}, 0.5, s) is None
+    assert "resamples" in engine._confirm({**ev, "delta_heldout": 1.0, "boot_prob": 0.5}, 0.5, s)
+    assert engine._confirm({**ev, "delta_heldout": 1.0, "boot_prob": 0.5}, 0.5, s, few_sweeps=True) is None
+
+
+def test_one_sided_sweeps_say_which_terms_they_cannot_carry(tmp_path):
+    f = _forms()
+    d, rated, sigma = f.make("overload", "iid", seed=5, layout="one_sided")
+    dg = diagnose(d, rated_load=rated, seed=5)
+    assert dg.accepted and EFFECTS[dg.accepted[0]].family == "overload"
+    adv = {a["family"]: a for a in dg.advice}
+    assert adv["offsets"]["status"] == "untestable"
+    assert "both slip directions" in adv["offsets"]["test"] and "shift" in adv["offsets"]["test"]
+    js = json.loads(dg.to_json())
+    assert isinstance(js["advice"], list) and {"family", "status", "why", "test", "detectable"} <= set(js["advice"][0])
+    nd = [a for a in js["advice"] if a["status"] == "not detected"]
+    assert nd and all(x["value"] > 0 and x["force_N"] > 0 for a in nd for x in a["detectable"])
+    text = dg.summary()
+    assert "advice" in text and "offsets [untestable]" in text
+
+
+def test_pressure_needs_mf61_in_json_and_summary():
+    case = make_case(("pressure",), "iid", seed=2)
+    dg = diagnose(case.data, rated_load=case.rated_load, seed=2)
+    assert "pressure" in {EFFECTS[a].family for a in dg.accepted}
+    js = dg.to_dict()
+    pid = next(a for a in dg.accepted if EFFECTS[a].family == "pressure")
+    assert js["needs_model"][pid] == "needs MF 6.1 (`--model mf61`)"
+    assert next(c for c in js["candidates"] if c["effect"] == pid)["needs_model"].startswith("needs MF 6.1")
+    assert f"{pid} (needs MF 6.1 (`--model mf61`))" in dg.summary()
+    assert js["candidates"][0]["needs_model"] is None
+
+
+def test_prepare_takes_load_levels_from_the_set_point_when_the_measured_load_wanders():
+    rng = np.random.default_rng(1)
+    rows = []
+    for run, kg in enumerate((1100.0, 2200.0, 3200.0)):
+        n = 200
+        fz = kg * 9.81 * (1 + 0.03 * np.sin(np.linspace(0, 3, n)) + 0.01 * rng.standard_normal(n))
+        rows.append(pd.DataFrame({"run": run, "load": kg * 9.81, "fz": fz, "slip_angle": np.linspace(0, 0.2, n),
+                                  "fy": -fz * 0.5}))
+    data = prepare(pd.concat(rows, ignore_index=True))
+    assert data.n_sweeps == 3 and len(data.levels["fz"]) == 3
+
+
+def test_cli_diagnose_static_pushes_with_patch(tmp_path, capsys):
+    from tyrefit.io.datasets import data_path
+
+    out = tmp_path / "s.json"
+    code = main(["diagnose", str(data_path("truck", "tyre_a_static.csv")), "--patch",
+                 str(data_path("truck", "tyre_a_patch.csv")), "--rated-load", "41680", "--json", str(out)])
+    assert code == 0
+    js = json.loads(out.read_text())
+    assert any("Eq. 1" in n for n in js["data"]["notes"])
+    adv = {a["family"]: a for a in js["advice"]}
+    assert adv["offsets"]["status"] == "untestable"
+    assert "advice" in capsys.readouterr().out

@@ -109,6 +109,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", required=True, metavar="OUT.json")
     p.add_argument("--report", metavar="DIR")
     p.add_argument("--seed", type=int, default=0, help="random seed for resampling")
+    p.add_argument("--patch", metavar="PATCH.csv", help="contact-patch data (static-rig tests, Eq. 1; as for fit)")
+    p.add_argument("--rig", metavar="RIG.json", help="displacement-to-slip calibration from 'tyrefit rig calibrate'")
+    p.add_argument("--static-part", choices=("peak", "sliding"), default="peak",
+                   help="static tests: which part of each push is diagnosed (as for fit)")
     _convention(p)
 
     p = sub.add_parser("sim", help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")

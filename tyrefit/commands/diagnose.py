@@ -36,10 +36,23 @@ def run(args) -> int:
     if rated is not None and not (math.isfinite(rated) and rated > 0):
         raise ValueRangeError(f"--rated-load {rated}: the rated load must be a positive force in N (e.g. 6031)")
     ds = read_data(args.data, convention=getattr(args, "convention", "iso") or "iso")
+    notes: list[str] = []
+    if ds.kind == "static":
+        # static-rig pushes: the same Eq. 1 conversion as `tyrefit fit` (tyrefit.rig.prepare_static_fit)
+        from .fit import _static_input
+
+        sfi = _static_input(ds, args, notes)
+        ds = sfi.data
+        notes[:0] = [f"static-rig pushes converted to slip angles with Komana et al. Eq. 1 "
+                     f"({'calibrated' if sfi.rig.calibrated else 'uncalibrated, f = 1'}; part '{sfi.part}')"]
+        notes += list(sfi.notes)
+    elif getattr(args, "patch", None) or getattr(args, "rig", None):
+        raise DataError(f"{args.data}: --patch and --rig convert static-rig pushes; this file holds {ds.kind!r} data")
     if ds.kind != "slip_angle" or "fy" not in ds.df.columns:
-        raise DataError(f"{args.data}: diagnose needs lateral-force slip-angle sweeps (fy against slip_angle); "
-                        f"this file holds {ds.kind!r} data")
+        raise DataError(f"{args.data}: diagnose needs lateral-force slip-angle sweeps (fy against slip_angle) or "
+                        f"static-rig pushes with --patch; this file holds {ds.kind!r} data")
     dg = diagnose(ds, start=start, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
+    dg.data.notes[:0] = notes
     if report_dir:
         dg.report(report_dir, force=force)
     dg.to_json(json_path, force=force)

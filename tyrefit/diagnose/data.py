@@ -188,7 +188,7 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 1
     if missing:
         raise ColumnError(f"{source or 'data'}: diagnose needs lateral-force slip sweeps; missing column(s) "
                           f"{', '.join(missing)} (have: {', '.join(map(str, df.columns))})")
-    cols = ["fy", "slip_angle", "fz"] + [c for c in ("run", "camber", "pressure", "speed") if c in df.columns]
+    cols = ["fy", "slip_angle", "fz"] + [c for c in ("run", "camber", "pressure", "speed", "load") if c in df.columns]
     d = df[cols].apply(pd.to_numeric, errors="coerce")
     keep = d[["fy", "slip_angle", "fz"]].notna().all(axis=1).to_numpy().copy()
     for c in ("camber", "pressure", "speed"):
@@ -208,10 +208,18 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 1
     camber = d["camber"].to_numpy(float) if "camber" in d.columns else np.zeros(n_raw)
     # condition levels and sweeps
     levels, lidx = {}, {}
+    # the load set point (a 'load' column), when the file has one, defines the load levels: a measured load
+    # that wanders along a sweep (air suspension, road) must not split the sweep into "levels"
+    setpoint = None
+    if "load" in d.columns and d["load"].notna().all() and (d["load"] > 0).all():
+        setpoint = d["load"].to_numpy(float)
     for f in FACTORS:
         if f == "camber" or f in d.columns:
-            vals = camber if f == "camber" else d[f].to_numpy(float)
+            vals = camber if f == "camber" else (setpoint if f == "fz" and setpoint is not None else d[f].to_numpy(float))
             levels[f], lidx[f] = condition_levels(vals, FACTORS[f][0])
+            if f == "fz" and setpoint is not None:  # level values: the median measured load of each level
+                fzm = d["fz"].to_numpy(float)
+                levels[f] = np.array([np.median(fzm[lidx[f] == k]) for k in range(len(levels[f]))])
     run = d["run"].to_numpy() if "run" in d.columns else np.zeros(n_raw)
     key = np.column_stack([pd.factorize(run)[0]] + [lidx[f] for f in lidx])
     change = np.r_[True, (np.diff(key, axis=0) != 0).any(axis=1)]

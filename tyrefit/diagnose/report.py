@@ -19,6 +19,7 @@ from ..effects import EFFECTS, get_effect
 from ..io.outputs import staged_dir, write_text
 from ..io.report import Report, esc
 from . import views
+from .advice import needs_model
 
 __all__ = ["write_report", "build_report"]
 
@@ -76,7 +77,8 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
         + f". Accepted, in order: <b>{esc(acc)}</b>. "
         f"Lateral-force RMSE {first.rmse:.1f} N → {last.rmse:.1f} N "
         f"(held-out sweeps {first.rmse_heldout:.1f} N → {last.rmse_heldout:.1f} N); "
-        f"within-sweep noise floor {dg.noise_floor:.1f} N. {esc(dg.unexplained.get('summary', ''))}</div>")
+        f"within-sweep noise floor {dg.noise_floor:.1f} N. {esc(dg.unexplained.get('summary', ''))}"
+        + "".join(f" <b>{esc(a)}: {esc(needs_model(a))}.</b>" for a in dg.accepted if needs_model(a)) + "</div>")
 
     # -- the loop ----------------------------------------------------------------------
     r.h2("1. The loop: error from the start model to the final model")
@@ -91,19 +93,31 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
 
     # -- evidence ------------------------------------------------------------------------
     r.h2("2. Evidence for every catalogue effect")
-    r.p("Each testable effect is screened with a score test at its neutral value whose null distribution "
-        "comes from a wild bootstrap that flips whole sweeps (residuals along a sweep are correlated, so "
-        "point-wise tests find effects in pure noise); p-values are Holm-corrected across the effects of a "
-        f"round (family-wise level {dg.settings.alpha:g}). Significant candidates are refitted and must lower "
-        f"the RMSE on held-out sweeps by at least {100 * dg.settings.margin:.0f} % of the noise floor "
-        f"({dg.settings.margin * dg.noise_floor:.2f} N), not worsen held-out interior load/camber/pressure "
-        f"levels, improve >= {100 * dg.settings.min_folds_improved:.0f} % of the sweep folds and keep a "
-        f"positive gain in >= {100 * dg.settings.min_boot_prob:.0f} % of sweep resamples.")
+    scr = dg.screening or {}
+    few = d.n_sweeps <= dg.settings.loso_max_sweeps
+    nm = scr.get("noise_model")
+    r.p("Each testable effect is screened with a score test at its neutral value; all candidates of a round are "
+        "tested together and their p-values adjusted by min-p over the same bootstrap draws (family-wise level "
+        f"{dg.settings.alpha:g}). The null distribution comes from "
+        + ("flips of whole sweeps (residuals along a sweep are correlated, so point-wise tests find effects in "
+           "pure noise)" if scr.get("method") == "sweep flips" else
+           "a noise model estimated from the residuals: AR(1) noise along each sweep plus a random offset per "
+           "sweep, re-estimated in every bootstrap draw"
+           + (f" (here: sd {nm['sd_N']:.1f} N, lag-one correlation {nm['rho']:.2f}, sweep offsets "
+              f"{nm['tau_N']:.1f} N)" if nm else ""))
+        + f". Significant candidates are refitted and must lower the RMSE on held-out sweeps by at least "
+        f"{100 * dg.settings.margin:.0f} % of the noise floor ({dg.settings.margin * dg.noise_floor:.2f} N) and "
+        "not worsen held-out interior load/camber/pressure levels"
+        + (f"; with {d.n_sweeps} sweeps every sweep is held out in turn (with one sweep per load: one load level "
+           "at a time), and a held-out sweep outside the training levels (the lowest or highest load) counts as "
+           "an extrapolation, reported apart." if few else
+           f", improve >= {100 * dg.settings.min_folds_improved:.0f} % of the sweep folds and keep a positive gain "
+           f"in >= {100 * dg.settings.min_boot_prob:.0f} % of sweep resamples."))
     rows = []
     for eid in EFFECTS:
         c = dg.candidates[eid]
         rows.append({"effect": eid, "family": c.family, "status": c.status, "round": _fmt(c.round),
-                     "Holm p": _fmt(c.p_holm), "held-out gain [N]": _fmt(c.delta_heldout),
+                     "adjusted p": _fmt(c.p_adjusted), "held-out gain [N]": _fmt(c.delta_heldout),
                      "levels gain [N]": _fmt(c.delta_levelout), "stability": _fmt(c.boot_prob),
                      "why": c.reason})
     r.table(rows)
@@ -142,6 +156,23 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
     r.figure(fig, "Measured lateral force (dots) with the start model (dotted) and the final model (solid), "
                   "one colour per load.")
 
+    # -- advice ---------------------------------------------------------------------------------
+    r.h2("Advice: what these data leave open, and the test that would decide it")
+    if dg.advice:
+        r.p("For every effect family the data could not test, could not settle, or did not show: the extra test "
+            "that would decide it, and the smallest effect the present data detect (80 % power at the "
+            f"{100 * dg.settings.alpha:.0f} % level, in the parameter's unit and as the largest change of "
+            "lateral force the start model cannot mimic).")
+        rows = []
+        for a in dg.advice:
+            det = "; ".join(f"{x['parameter']} {x['value']:.3g} {x['unit']} (~{x['force_N']:.0f} N)"
+                            for x in (a.get("detectable") or []) if x["value"] is not None)
+            rows.append({"family": a["family"], "status": a["status"], "why": a["why"], "test that decides it": a["test"],
+                         "smallest detectable": det or "–", "model": a.get("needs_model") or ""})
+        r.table(rows)
+    else:
+        r.p("Nothing left open: every family was testable and settled.")
+
     # -- accepted effects ------------------------------------------------------------------------
     r.h2("5. The effects that were added")
     if not dg.accepted:
@@ -162,6 +193,8 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
                   "in range": "yes" if p.plausible[0] <= vals.get(p.name, np.nan) <= p.plausible[1] else "no",
                   "meaning": p.meaning} for p in e.params], digits=4)
         r.p(f"PAC89: {e.pac89_note}", cls=None if e.representable else "warn")
+        if needs_model(eid):
+            r.p(f"{eid}: {needs_model(eid)}: PAC89 has no input for it.", cls="warn")
 
     # -- .tir ----------------------------------------------------------------------------------
     r.h2("6. What it means for the exported .tir")
@@ -209,7 +242,7 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
     if u.get("omnibus_groups"):
         r.table([{"directions": k, "number": v["directions"], "p (alone)": v["p_value"]}
                  for k, v in u["omnibus_groups"].items()], digits=3,
-                caption=f"omnibus cluster score test by group of smooth directions (combined by min-p: "
+                caption=f"omnibus score test by group of smooth directions (combined by min-p: "
                         f"p = {_fmt(u.get('p_value'))})")
     if u.get("cells"):
         r.table(pd.DataFrame(u["cells"][:6]), digits=3, caption="cells with the largest error (final model)")

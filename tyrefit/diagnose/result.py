@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 
 from ..effects import EFFECTS, get_effect, resolve_pac89
+from .advice import advice_lines, needs_model
 from .data import SweepData
 from .engine import Candidate, Settings, Step
 
@@ -54,6 +55,8 @@ class Diagnosis:
     unexplained: dict = field(default_factory=dict)
     export: dict = field(default_factory=dict)
     seconds: float = float("nan")
+    advice: list = field(default_factory=list)
+    screening: dict = field(default_factory=dict)
 
     # -- summaries -------------------------------------------------------------------
     @property
@@ -120,6 +123,9 @@ class Diagnosis:
                                        if "pressure" in d.levels else {}),
                                     **({"speed": list(map(float, d.levels["speed"]))} if "speed" in d.levels else {})},
                      "rated_load": d.inputs.rated_load, "notes": list(d.notes)},
+            "advice": [dict(a) for a in self.advice],
+            "screening": dict(self.screening),
+            "needs_model": {e: m for e in self.accepted if (m := needs_model(e))},
             "settings": dict(self.settings.__dict__),
             "seed": self.seed,
             "seconds": float(self.seconds),
@@ -147,8 +153,12 @@ class Diagnosis:
         for s in self.steps:
             lines.append(f"  {'+ ' + s.added if s.added else 'start':<28} RMSE {s.rmse:8.1f} N   "
                          f"held-out {s.rmse_heldout:8.1f} N")
-        lines.append("accepted: " + (", ".join(self.accepted) if self.accepted else "nothing beyond the start model"))
+        lines.append("accepted: " + (", ".join(f"{a} ({m})" if (m := needs_model(a)) else a for a in self.accepted)
+                                     if self.accepted else "nothing beyond the start model"))
         lines.append(self.unexplained.get("summary", ""))
+        if self.advice:
+            lines.append("advice (what these data leave open, and the test that would decide it):")
+            lines += ["  " + t for t in advice_lines(self.advice)]
         return "\n".join(lines)
 
     def family_of(self, effect_id: str) -> str:

@@ -421,3 +421,338 @@ def cluster_bootstrap_prob(d: np.ndarray, rng: np.random.Generator, n_boot: int 
         return float("nan")
     idx = rng.integers(0, len(d), size=(n_boot, len(d)))
     return float(np.mean(d[idx].sum(axis=1) > 0))
+
+
+# --------------------------------------------------------------------------------------------------------
+# Screening all candidates at once: the sweep-flip (many sweeps) or the noise-model bootstrap (few sweeps)
+# --------------------------------------------------------------------------------------------------------
+#: with this many sweeps or more the screening uses sweep flips (no noise model): 2^11 sign patterns leave
+#: ample resolution for a min-p over a dozen candidates at 5 %, and the per-sweep score variance is estimated
+#: from >= 12 sweeps; with fewer, the AR(1) + sweep-offset noise-model bootstrap
+MIN_FLIP_SWEEPS = 12
+
+
+class SweepLayout:
+    """Points of each sweep in record order, padded: the frame AR noise lives in.
+
+    ``index[g, i]`` is the point at position ``i`` of sweep ``g`` (-1 past its end).
+    """
+
+    def __init__(self, sweep: np.ndarray, n_sweeps: int):
+        sweep = np.asarray(sweep)
+        self.G = int(n_sweeps)
+        self.N = len(sweep)
+        self.sweep = sweep
+        self.n = np.bincount(sweep, minlength=self.G)
+        self.n_max = int(self.n.max())
+        order = np.argsort(sweep, kind="stable")
+        pos = np.arange(self.N) - np.repeat(np.r_[0, np.cumsum(self.n)[:-1]], self.n)
+        self.index = np.full((self.G, self.n_max), -1, dtype=int)
+        self.index[sweep[order], pos] = order
+        self.mask = self.index >= 0
+        # f_g = (1/n) sum_ij rho^|i-j| needs these lag counts: (n - h) pairs at lag h
+        self.lag_counts = np.clip(self.n[:, None] - np.arange(self.n_max)[None, :], 0, None).astype(float)
+
+    def padded(self, x: np.ndarray) -> np.ndarray:
+        """(..., N) -> (..., G, n_max), zero past the end of each sweep."""
+        out = np.take(x, np.where(self.mask, self.index, 0), axis=-1)
+        return np.where(self.mask, out, 0.0)
+
+    def unpad(self, xp: np.ndarray) -> np.ndarray:
+        """(..., G, n_max) -> (..., N)."""
+        out = np.empty(xp.shape[:-2] + (self.N,))
+        out[..., self.index[self.mask]] = xp[..., self.mask]
+        return out
+
+
+@dataclass
+class NoiseModel:
+    """Noise of a rig record: AR(1) along each sweep plus a random offset per sweep.
+
+    ``sd`` [N] stationary standard deviation of the AR(1) part of each sweep
+    (G,), ``rho`` its lag-one correlation between neighbouring points, ``tau``
+    [N] the standard deviation of the per-sweep offsets (drift between sweeps).
+    Arrays carry a leading axis when several models are estimated at once.
+    """
+
+    sd: np.ndarray
+    rho: np.ndarray
+    tau: np.ndarray
+
+    def to_dict(self) -> dict:
+        return {"sd_N": float(np.sqrt(np.mean(np.asarray(self.sd) ** 2))), "rho": float(np.asarray(self.rho).ravel()[0]),
+                "tau_N": float(np.asarray(self.tau).ravel()[0])}
+
+
+def _ar_f(layout: SweepLayout, rho: np.ndarray) -> np.ndarray:
+    """f_g(rho) = (1/n_g) sum_ij rho^|i-j| (variance of a sweep sum / n_g sigma^2) -> (B, G)."""
+    rho = np.atleast_1d(rho)[:, None]
+    h = np.arange(layout.n_max)[None, :]
+    powh = np.where(h == 0, 1.0, rho ** np.maximum(h, 1))  # (B, H)
+    w = np.where(h == 0, 1.0, 2.0) * powh
+    return (w @ layout.lag_counts.T) / layout.n[None, :]
+
+
+def estimate_noise(resid: np.ndarray, layout: SweepLayout, dof_within: float = 0.0,
+                   dof_between: float = 0.0) -> NoiseModel:
+    """Estimate the AR(1) + sweep-offset noise from residuals (rows of ``resid`` estimated separately).
+
+    Parameters
+    ----------
+    resid : ndarray (N,) or (B, N)
+        Residuals [N] of a model that explains the systematic part (here: the
+        model with every candidate effect added, so a missing effect does not
+        pass for correlated noise).
+    layout : SweepLayout
+    dof_within, dof_between : float
+        Parameters of that model spent within sweeps and on sweep means
+        (degrees-of-freedom corrections of the variances).
+
+    Notes
+    -----
+    Method of moments, per row: the lag-one autocorrelation of the
+    within-sweep deviations, corrected for the demeaning bias (1 + 3 rho)/n
+    (Marriott & Pope 1954), gives rho; the within-sweep sum of squares of
+    sweep g has expectation sd_g^2 (n_g - f_g) with f_g = (1/n_g) sum_ij
+    rho^|i-j|, which gives sd_g; the mean square of the sweep means has
+    expectation tau^2 + sd_g^2 f_g / n_g, which gives tau (>= 0).
+    """
+    r = np.atleast_2d(resid)
+    rp = layout.padded(r)  # (B, G, H)
+    n = layout.n.astype(float)
+    m = rp.sum(axis=-1) / n  # sweep means (B, G)
+    d = np.where(layout.mask, rp - m[..., None], 0.0)
+    ss = np.sum(d * d, axis=-1)  # (B, G)
+    lag1 = np.sum(d[..., 1:] * d[..., :-1] * layout.mask[:, 1:], axis=-1)
+    rho = np.sum(lag1, axis=-1) / np.maximum(np.sum(ss, axis=-1), 1e-300)
+    rho = np.clip(rho + (1.0 + 3.0 * rho) / max(np.mean(n), 2.0), -0.5, 0.97)
+    f = _ar_f(layout, rho)  # (B, G)
+    N, G = layout.N, layout.G
+    cw = (N - G) / max(N - G - dof_within, 1.0)
+    sd2 = cw * ss / np.maximum(n[None, :] - f, 1.0)
+    cb = G / max(G - dof_between, 1.0)
+    tau2 = np.maximum(0.0, cb * np.mean(m * m, axis=-1) - np.mean(sd2 * f / n[None, :], axis=-1))
+    return NoiseModel(sd=np.sqrt(sd2), rho=rho, tau=np.sqrt(tau2))
+
+
+def simulate_noise(model: NoiseModel, layout: SweepLayout, n_draws: int, rng: np.random.Generator) -> np.ndarray:
+    """Draws (n_draws, N) of AR(1) + sweep-offset noise from one estimated model."""
+    sd = np.asarray(model.sd, dtype=float).reshape(-1)[-layout.G:]
+    rho = float(np.asarray(model.rho).ravel()[0])
+    tau = float(np.asarray(model.tau).ravel()[0])
+    z = rng.standard_normal((n_draws, layout.G, layout.n_max))
+    e = np.empty_like(z)
+    e[..., 0] = z[..., 0]
+    c = np.sqrt(max(1.0 - rho * rho, 0.0))
+    for i in range(1, layout.n_max):
+        e[..., i] = rho * e[..., i - 1] + c * z[..., i]
+    e = e * sd[None, :, None] + tau * rng.standard_normal((n_draws, layout.G))[..., None]
+    return layout.unpad(e)
+
+
+@dataclass
+class Screen:
+    """Joint screening of every candidate effect in one round.
+
+    ``statistic``, ``p_value`` (each candidate alone), ``p_adjusted``
+    (family-wise: single-step min-p over all candidates, the same draws for
+    every candidate), ``predicted_dssr`` [N^2] (first-order gain of a refit),
+    ``critical`` (statistic each candidate must reach to pass at ``alpha``
+    after the adjustment), ``method`` ("sweep flips" or "noise-model
+    bootstrap"), ``noise`` (the estimated NoiseModel, noise-model bootstrap
+    only), ``info`` (per candidate: Fisher information and score variance of
+    its parameters, for the smallest detectable effect).
+    """
+
+    statistic: np.ndarray
+    p_value: np.ndarray
+    p_adjusted: np.ndarray
+    predicted_dssr: np.ndarray
+    df: np.ndarray
+    critical: np.ndarray
+    method: str
+    n_clusters: int
+    noise: NoiseModel | None = None
+    info: list = None
+
+
+def _minp_adjust(T: np.ndarray, Tb: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per-candidate and min-p adjusted p-values from observed T (K,) and draws Tb (K, B); critical T at alpha."""
+    K, B = Tb.shape
+    p_obs = (1.0 + np.sum(Tb >= T[:, None] * (1 - 1e-9), axis=1)) / (B + 1.0)
+    ranks = np.argsort(np.argsort(-Tb, axis=1, kind="stable"), axis=1)
+    p_boot = (1.0 + ranks) / (B + 1.0)
+    min_boot = np.sort(p_boot.min(axis=0))
+    p_adj = (1.0 + np.searchsorted(min_boot, p_obs * (1 + 1e-9), side="right")) / (B + 1.0)
+    # critical p: largest p with adjusted p < alpha; critical T per candidate: its draws' quantile there
+    c = min_boot[max(int(np.floor(alpha * (B + 1))) - 2, 0)] if B else 0.0
+    crit = np.array([np.quantile(Tb[k], 1.0 - c) if c > 0 else np.inf for k in range(K)])
+    return p_obs, np.maximum(p_adj, p_obs), crit
+
+
+def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.ndarray, layout: SweepLayout,
+                      rng: np.random.Generator, n_boot: int = 999, alpha: float = 0.05,
+                      method: str = "auto", min_flip_sweeps: int | None = None) -> Screen:
+    """Score tests of every candidate's parameters at their neutral values, adjusted for testing them all.
+
+    Parameters
+    ----------
+    J_model : ndarray (N, P)
+        Jacobian of the fitted model.
+    J_new : list of ndarray (N, q_k)
+        Jacobian of each candidate's new parameters at their neutral values.
+    resid : ndarray (N,)
+        Residuals of the fitted model [N].
+    layout : SweepLayout
+    rng : Generator
+    n_boot : int
+        Bootstrap draws.
+    alpha : float
+        Family-wise level (for the critical values only; the p-values do not depend on it).
+    method : {'auto', 'flip', 'noise'}
+        ``'flip'``: wild cluster score bootstrap, Rademacher signs per sweep
+        (Kline & Santos 2012) - free of any noise model, but its null has only
+        2^G distinct draws and a sweep-robust variance, so it needs many sweeps;
+        ``'noise'``: parametric bootstrap from an AR(1) + sweep-offset noise
+        model estimated from the residuals of the model with every candidate
+        added, re-estimated in every draw; ``'auto'``: flips with
+        ``min_flip_sweeps`` sweeps or more, else the noise model.
+
+    Notes
+    -----
+    Every candidate's directions are made orthogonal to the model's
+    (J~ = J_new - P J_new), its score is s = J~' r and its statistic
+    T = s' V^-1 s with V the variance of s: the sum of per-sweep score outer
+    products (flips) or J~' Sigma J~ with Sigma the estimated noise
+    covariance (noise model).  In each draw the same noise (or the same
+    flips) feeds every candidate, so the smallest per-candidate p-value has
+    its null distribution from the same draws: single-step min-p
+    (Westfall & Young 1993), which holds the family-wise level however
+    strongly the candidates' directions overlap, and loses far less power
+    than Holm when they do (load_friction, overload and curvature_load all
+    act on the peak).
+    """
+    G = layout.G
+    r = np.asarray(resid, dtype=float)
+    Jt = [residualise(X, J_model) for X in J_new]
+    jmax = [np.max(np.abs(X), axis=0) for X in Jt]  # largest force change the model cannot mimic [N/unit]
+    q = np.array([X.shape[1] for X in Jt])
+    K = len(Jt)
+    allJ = np.hstack(Jt) if K else np.zeros((layout.N, 0))
+    s_obs = allJ.T @ r
+    sl = np.r_[0, np.cumsum(q)]
+    dssr = np.empty(K)
+    fisher = []
+    for k in range(K):
+        info = Jt[k].T @ Jt[k]
+        sk = s_obs[sl[k]:sl[k + 1]]
+        dssr[k] = float(sk @ np.linalg.pinv(info, rcond=1e-12, hermitian=True) @ sk)
+        fisher.append(info)
+    if method == "auto":
+        method = "flip" if G >= (min_flip_sweeps or MIN_FLIP_SWEEPS) else "noise"
+    if method == "flip":
+        W = rng.choice(np.array([-1.0, 1.0]), size=(n_boot, G))
+        S = cluster_sums(allJ * r[:, None], layout.sweep, G)  # (G, sum q)
+        Sb = W @ S
+        T, Tb, var = np.empty(K), np.empty((K, n_boot)), []
+        for k in range(K):
+            Sk = S[:, sl[k]:sl[k + 1]]
+            Vk = Sk.T @ Sk
+            Vp = np.linalg.pinv(Vk, rcond=1e-10, hermitian=True)
+            sk = Sk.sum(axis=0)
+            T[k] = float(sk @ Vp @ sk)
+            sbk = Sb[:, sl[k]:sl[k + 1]]
+            Tb[k] = np.einsum("bi,ij,bj->b", sbk, Vp, sbk)
+            var.append(Vk)
+        p, padj, crit = _minp_adjust(T, Tb, alpha)
+        return Screen(T, p, padj, dssr, q, crit, "sweep flips", G, None,
+                      [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)])
+    # --- noise-model bootstrap -----------------------------------------------------------------
+    # the alternative: model plus every candidate direction (orthonormal basis); the noise is estimated
+    # from its residuals so an effect that is there does not pass for correlated noise
+    A = np.hstack([J_model, allJ])
+    U, sv, _ = np.linalg.svd(A / np.maximum(np.linalg.norm(A, axis=0), 1e-300), full_matrices=False)
+    Q = U[:, sv > 1e-8 * sv[0]]
+    k_tot = Q.shape[1]
+    Un = cluster_sums(Q, layout.sweep, G) / np.sqrt(layout.n)[:, None]  # Q's content in the sweep-mean space
+    dof_b = float(np.sum(Un**2))
+    dof_w = k_tot - dof_b
+
+    def alt_resid(x):
+        return x - (x @ Q) @ Q.T
+
+    noise = estimate_noise(alt_resid(r), layout, dof_w, dof_b)
+    # bootstrap bias correction of the noise model (Efron & Tibshirani 1993, Sec. 10.3): the projection on
+    # the model's smooth directions removes slow noise, so rho, sd and tau come out low; simulate from the
+    # estimate, re-estimate, and move each parameter by the bias the pilot draws show
+    pilot = estimate_noise(alt_resid(simulate_noise(noise, layout, 199, rng)), layout, dof_w, dof_b)
+    noise = NoiseModel(
+        sd=np.asarray(noise.sd) * np.asarray(noise.sd) / np.maximum(np.mean(pilot.sd, axis=0), 1e-300),
+        rho=np.clip(2.0 * np.asarray(noise.rho) - np.mean(pilot.rho), -0.5, 0.97),
+        tau=np.maximum(0.0, 2.0 * np.asarray(noise.tau) - np.mean(pilot.tau)))
+    noise_obs = estimate_noise(alt_resid(r), layout, dof_w, dof_b)
+    e = simulate_noise(noise, layout, n_boot, rng)
+    nb = estimate_noise(alt_resid(e), layout, dof_w, dof_b)
+    sb = e @ allJ  # scores of the draws (J~ is orthogonal to the model's directions)
+    # variance of every candidate's score under each noise model: J~' Sigma J~ with
+    # Sigma_g = sd_g^2 rho^|i-j| + tau^2, from lagged cross-products of J~ within each sweep
+    Jp = np.moveaxis(layout.padded(allJ.T), 0, -1)  # (G, H, sum q)
+    H = layout.n_max
+    pairs = [(sl[k] + i, sl[k] + j) for k in range(K) for i in range(q[k]) for j in range(q[k])]
+    ia = np.array([a for a, _ in pairs], dtype=int)
+    ib = np.array([b for _, b in pairs], dtype=int)
+    lag = np.empty((G, H, len(pairs)))
+    for h in range(H):
+        x = np.sum(Jp[:, :H - h, ia] * Jp[:, h:, ib], axis=1)
+        if h > 0:
+            x = x + np.sum(Jp[:, :H - h, ib] * Jp[:, h:, ia], axis=1)
+        lag[:, h, :] = x
+    colsum = Jp.sum(axis=1)  # (G, sum q)
+    off = np.sum(colsum[:, ia] * colsum[:, ib], axis=0)  # (pairs,)
+
+    def variances(nm: NoiseModel) -> np.ndarray:
+        rho = np.atleast_1d(nm.rho)
+        powh = rho[:, None] ** np.arange(H)[None, :]  # (B, H)
+        w = (np.atleast_2d(nm.sd) ** 2)[:, :, None] * powh[:, None, :]  # (B, G, H)
+        return np.einsum("bgh,ghp->bp", w, lag) + (np.atleast_1d(nm.tau) ** 2)[:, None] * off[None, :]
+
+    Vobs, Vb = variances(noise_obs)[0], variances(nb)
+    T, Tb, var = np.empty(K), np.empty((K, n_boot)), []
+    start = 0
+    for k in range(K):
+        qk = q[k]
+        npair = qk * qk
+        Vk = Vobs[start:start + npair].reshape(qk, qk)
+        Vbk = Vb[:, start:start + npair].reshape(-1, qk, qk)
+        start += npair
+        sk = s_obs[sl[k]:sl[k + 1]]
+        T[k] = float(sk @ np.linalg.pinv(Vk, rcond=1e-10, hermitian=True) @ sk)
+        sbk = sb[:, sl[k]:sl[k + 1]]
+        Tb[k] = np.einsum("bi,bij,bj->b", sbk, np.linalg.pinv(Vbk, rcond=1e-10, hermitian=True), sbk)
+        var.append(Vk)
+    p, padj, crit = _minp_adjust(T, Tb, alpha)
+    return Screen(T, p, padj, dssr, q, crit, "noise-model bootstrap", G, noise,
+                  [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)])
+
+
+def detectable_size(fisher: np.ndarray, var: np.ndarray, critical: float, power: float = 0.8) -> np.ndarray:
+    """Smallest parameter change the score test detects with ``power``, each parameter alone.
+
+    With parameter change b, the score has mean I b (I = J~'J~) and variance
+    V, so T = s'V^-1 s is noncentral chi-square with noncentrality
+    b' I V^-1 I b.  For one parameter at a time the test rejects with
+    probability ``power`` when sqrt(ncp) = sqrt(critical) + z_power
+    (one-degree-of-freedom normal approximation).  Returns |b| per parameter
+    (inf where the data carry no information on it).
+    """
+    from scipy.stats import norm
+
+    I = np.atleast_2d(fisher)
+    V = np.atleast_2d(var)
+    need = np.sqrt(max(critical, 0.0)) + norm.ppf(power)
+    out = np.full(I.shape[0], np.inf)
+    for j in range(I.shape[0]):
+        v = V[j, j]
+        if v > 0 and I[j, j] > 0:
+            out[j] = need * np.sqrt(v) / I[j, j]
+    return out

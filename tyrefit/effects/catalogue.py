@@ -393,16 +393,19 @@ def _effects() -> list[Effect]:
                pac89_note="PAC89 a10, a13: written to the .tir (they flip sign for the other tyre side)."),
         Effect("pressure", "pressure", "inflation pressure on cornering stiffness and grip", (_P_KY, _P_MU),
                ">= 2 inflation pressures", _levels("pressure_levels", "pressure"), _CARD_PRESSURE,
-               "stiffness_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE),
+               "stiffness_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE,
+               extra={"needs_model": "mf61"}),
         Effect("pressure_stiffness", "pressure", "inflation pressure on cornering stiffness", (_P_KY,),
                ">= 2 inflation pressures", _levels("pressure_levels", "pressure"), _CARD_PRESSURE,
-               "stiffness_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE),
+               "stiffness_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE,
+               extra={"needs_model": "mf61"}),
         Effect("pressure_grip", "pressure", "inflation pressure on grip", (_P_MU,),
                ">= 2 inflation pressures", _levels("pressure_levels", "pressure"), _CARD_PRESSURE,
-               "peak_mu_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE),
+               "peak_mu_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE,
+               extra={"needs_model": "mf61"}),
         Effect("speed", "speed", "travel speed on grip and cornering stiffness", (_S_MU, _S_KY),
                ">= 2 speeds", _levels("speed_levels", "speed"), _CARD_SPEED, "peak_mu_vs_speed",
-               apply=_apply_speed, pac89_note=_NOT_PAC89_SPEED),
+               apply=_apply_speed, pac89_note=_NOT_PAC89_SPEED, extra={"needs_model": "mf61"}),
     ]
 
 

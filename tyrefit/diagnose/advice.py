@@ -1,0 +1,176 @@
+"""Experiment-design advice: which extra test would decide what these data leave open.
+
+For every effect family the diagnosis could not settle, one entry says
+
+* ``status``: ``untestable`` (the data cannot carry the family at all, e.g.
+  shifts from one-sided sweeps, load laws from one load), ``ambiguous``
+  (significant, but two families or variants explain it equally well, or the
+  held-out evidence could not confirm it) or ``not detected`` (testable, not
+  significant);
+* ``why`` in words and ``test``: the extra test that would decide it, with
+  levels computed from the data (which loads, cambers, pressures; both slip
+  signs; a repeated sweep);
+* ``detectable``: the smallest effect the present data detect with 80 %
+  power at the 5 % level, per parameter, in the parameter's own unit and as
+  the largest change of lateral force [N] the start model cannot mimic
+  (:func:`~tyrefit.diagnose.stats.detectable_size`, from the score test of
+  the last screening round, with its min-p critical value).
+
+``needs_model`` names the tyre model that can carry a family PAC89 cannot
+(pressure, speed: MF 6.1, ``--model mf61``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..effects import EFFECTS, FAMILIES
+from .stats import detectable_size
+
+__all__ = ["build_advice", "needs_model", "MF61"]
+
+_DEG = np.pi / 180.0
+#: the words for an effect PAC89 cannot carry and MF 6.1 can (issue 13: the model ladder)
+MF61 = "needs MF 6.1 (`--model mf61`)"
+
+
+def needs_model(effect_id: str) -> str | None:
+    """``MF61`` for an effect PAC89 has no input for and MF 6.1 carries (pressure, speed), else None."""
+    return MF61 if EFFECTS[effect_id].extra.get("needs_model") == "mf61" else None
+
+
+def _kn(x) -> str:
+    return f"{x / 1e3:.1f} kN"
+
+
+def _test(family: str, d, cands, status: str) -> str:
+    """The extra test that would decide ``family`` on data ``d`` (SweepData)."""
+    s = d.summary
+    fz = np.asarray(s.fz_levels, dtype=float)
+    reach = s.slip_extent / _DEG
+    lo, hi = fz.min(), fz.max()
+    if family == "load_friction":
+        if len(fz) < 3:
+            want = [0.5 * lo, 1.5 * lo] if len(fz) == 1 else [0.5 * (lo + hi), 1.3 * hi]
+            return ("slip sweeps through the peak (|slip| >= 5 deg) at >= 3 loads: add loads at "
+                    + " and ".join(_kn(v) for v in want))
+        if reach < 5:
+            return f"sweeps through the peak: extend the slip range to |slip| >= 8 deg (now {reach:.1f} deg)"
+        if status == "ambiguous":
+            return ("a sweep at a load between the tested ones and a repeat of the highest-load sweep: a smooth fall "
+                    "of friction with load and a knee above the rated load differ between the levels")
+        return ("repeat the sweeps at the lowest and the highest load: k repeats shrink the detectable size about "
+                "1/sqrt(k)")
+    if family == "curvature_load":
+        if len(fz) < 2:
+            return f"the same sweep at a second load (e.g. {_kn(1.6 * lo)}) reaching |slip| >= 8 deg"
+        if reach < 6:
+            return f"extend the sweeps past the peak to |slip| >= 8-10 deg (now {reach:.1f} deg) at >= 2 loads"
+        return "sweeps past the peak (|slip| >= 10 deg) repeated at the lowest and the highest load"
+    if family == "overload":
+        r = s.rated_load
+        if r is None:
+            return "give the tyre's rated load (--rated-load NEWTONS, from its load index)"
+        above = fz[fz > 1.02 * r]
+        if len(above) == 0:
+            return f"sweeps at 1.2 and 1.4 x the rated load ({_kn(1.2 * r)}, {_kn(1.4 * r)})"
+        if len(above) == 1:
+            extra = 0.5 * (r + above[0]) if above[0] > 1.25 * r else 1.15 * above[0]
+            return (f"a second load above the rated load {_kn(r)} (e.g. {_kn(extra)}): with one level above it a "
+                    "knee at the rating cannot be held out and checked, nor told from a smooth friction fall")
+        return (f"a sweep just above the rated load ({_kn(1.1 * r)}) and a repeat of the highest-load sweep: "
+                "they place the knee")
+    if family == "camber":
+        c = np.degrees(np.asarray(s.camber_levels, dtype=float))
+        if len(c) < 3:
+            return "the same sweeps at >= 3 camber angles, e.g. -4, 0, +4 deg (2 give thrust and shift only)"
+        return "repeat the sweeps at the outer camber angles"
+    if family == "offsets":
+        if s.slip_reach < 1.0 * _DEG:
+            return (f"sweeps through zero in both slip directions (e.g. -{max(reach, 6):.0f} to +{max(reach, 6):.0f} "
+                    "deg): with one slip sign a shift of the curve cannot be told from its shape near zero; "
+                    "ply steer from conicity needs both mounting sides")
+        if len(fz) < 2:
+            return "the sweep through zero at a second load (load-dependent shifts); both mounting sides for ply steer"
+        return "repeat the sweeps through zero (both directions) and test the tyre mounted the other way round"
+    if family == "pressure":
+        p = np.asarray(s.pressure_levels, dtype=float)
+        p0 = float(np.median(p)) if len(p) else None
+        return ("the same sweeps at a second inflation pressure"
+                + (f" (e.g. {0.8 * p0 / 1e3:.0f} and {1.2 * p0 / 1e3:.0f} kPa)" if p0 else " (e.g. -20 % and +20 %)"))
+    if family == "speed":
+        return "the same sweeps at a second speed (e.g. 40 and 100 km/h)"
+    return "more sweeps"
+
+
+def _detectable(c, data) -> list[dict] | None:
+    info = getattr(c, "info", None)
+    if not info or not np.isfinite(getattr(c, "critical", np.nan)):
+        return None
+    byname = {p.name: p for p in EFFECTS[c.effect].params}
+    sizes = detectable_size(info["fisher"], info["var"], c.critical)
+    jmax = np.asarray(info["jmax"], dtype=float)
+    params = [byname[n] for n in info.get("names", [])]
+    out = []
+    for p, b, jm in zip(params, sizes, jmax):
+        out.append({"parameter": p.name, "unit": p.unit, "value": float(b) if np.isfinite(b) else None,
+                    "force_N": float(b * jm) if np.isfinite(b) else None, "meaning": p.meaning})
+    return out
+
+
+def build_advice(data, cands: dict, accepted: list[str], settings) -> list[dict]:
+    """Advice entries (see the module docstring), one per effect family not settled by the diagnosis."""
+    acc_fams = {EFFECTS[a].family for a in accepted}
+    start_fams = {c.family for c in cands.values() if c.status == "in start model"}
+    out = []
+    for fam, ids in FAMILIES.items():
+        cs = [cands[i] for i in ids]
+        statuses = {c.status for c in cs}
+        entry = None
+        if fam in acc_fams | start_fams:
+            tied = [c for c in cs if c.status == "variant not distinguishable"]
+            if tied:
+                chosen = next(a for a in accepted if EFFECTS[a].family == fam)
+                entry = {"effect": chosen, "family": fam, "status": "ambiguous",
+                         "why": (f"variants {', '.join([chosen] + [c.effect for c in tied])} fit the held-out sweeps "
+                                 f"within the practical margin; the simplest ({chosen}) was added")}
+        elif statuses == {"not testable with these data"}:
+            c = cs[0]
+            entry = {"effect": c.effect, "family": fam, "status": "untestable", "why": c.reason}
+        else:
+            unconf = [c for c in cs if c.status in ("significant but not confirmed", "confirmed, not added")]
+            if unconf:
+                c = unconf[0]
+                entry = {"effect": c.effect, "family": fam, "status": "ambiguous",
+                         "why": f"significant in the score test but not added: {c.reason}"}
+            else:
+                tested = sorted((c for c in cs if c.status == "not significant"),
+                                key=lambda c: len(EFFECTS[c.effect].params))
+                if tested:
+                    c = tested[0]
+                    entry = {"effect": c.effect, "family": fam, "status": "not detected",
+                             "why": c.reason}
+        if entry is None:
+            continue
+        entry["test"] = _test(fam, data, cands, entry["status"])
+        entry["detectable"] = _detectable(cands[entry["effect"]], data) if entry["status"] != "untestable" else None
+        entry["power"] = 0.8
+        entry["level"] = settings.alpha
+        entry["needs_model"] = needs_model(entry["effect"])
+        out.append(entry)
+    return out
+
+
+def advice_lines(advice: list[dict]) -> list[str]:
+    """One line per entry for the terminal and the report."""
+    lines = []
+    for a in advice:
+        det = ""
+        if a.get("detectable"):
+            parts = [f"{d['parameter']} {d['value']:.3g} {d['unit']} (~{d['force_N']:.0f} N)"
+                     for d in a["detectable"] if d["value"] is not None]
+            if parts:
+                det = f"; smallest detectable (80 % power, {100 * a['level']:.0f} % level): " + ", ".join(parts)
+        lines.append(f"{a['family']} [{a['status']}]: {a['why']}; to decide: {a['test']}{det}"
+                     + (f"; {a['needs_model']}" if a.get("needs_model") else ""))
+    return lines
