@@ -191,18 +191,32 @@ def test_fit_by_a_single_level_is_a_clear_error(fsae45_file, tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_fit_and_diagnose_report_the_same_noise_floor(fsae45_file, tmp_path, capsys):
+def test_diagnose_suggests_a_complete_export_that_keeps_its_promise(fsae45_file, tmp_path, capsys, monkeypatch):
+    """Run the command the diagnose report suggests, as written: it must run (SAE file: --convention sae),
+    give the RMSE the report promises, and report the same noise floor as diagnose."""
     import json
+    import shlex
 
     from tyrefit.cli import main
 
-    assert main(["diagnose", str(fsae45_file), "--convention", "sae", "--json", str(tmp_path / "d.json")]) == 0
-    dg = json.load(open(tmp_path / "d.json"))["noise_floor"]
+    monkeypatch.chdir(tmp_path)
+    assert main(["diagnose", str(fsae45_file), "--convention", "sae", "--json", "d.json", "--report", "dg"]) == 0
     capsys.readouterr()
-    assert main(["fit", str(fsae45_file), "--convention", "sae", "--out", str(tmp_path / "t.tir")]) == 0
+    floor = json.load(open("d.json"))["noise_floor"]
+    html = (tmp_path / "dg" / "index.html").read_text()
+    import html as _html
+
+    cmd = _html.unescape(re.search(r"To export: (tyrefit fit .*? --out tyre\.tir)", html).group(1))
+    promised = float(re.search(r"--out tyre\.tir - it gives lateral RMSE ([\d.]+) N", _html.unescape(html)).group(1))
+    argv = shlex.split(cmd)
+    assert argv[:2] == ["tyrefit", "fit"] and "--convention" in argv and argv[argv.index("--convention") + 1] == "sae"
+    assert main(argv[1:]) == 0
     out = capsys.readouterr().out
-    shown = float(re.search(r"lateral RMSE [\d.]+ N \(R² [\d.]+, noise floor ([\d.]+) N\)", out).group(1))
-    assert shown == pytest.approx(dg, rel=0.005)  # printed to 3 significant digits
+    m = re.search(r"lateral RMSE ([\d.]+) N \(R² [\d.]+, noise floor ([\d.]+) N\)", out)
+    rmse, shown_floor = float(m.group(1)), float(m.group(2))
+    assert rmse == pytest.approx(promised, abs=0.05 + 1e-4 * promised)  # the report prints 0.1 N
+    assert shown_floor == pytest.approx(floor, rel=0.001)  # printed to 4 significant digits
+    assert (tmp_path / "tyre.tir").exists()
 
 
 def test_fit_noise_floor_is_diagnose_definition(fsae45):

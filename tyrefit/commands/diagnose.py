@@ -54,8 +54,27 @@ def run(args) -> int:
     dg = diagnose(ds, start=start, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
     dg.data.notes[:0] = notes
     if report_dir:
+        _run_export(dg, ds, args)
         dg.report(report_dir, force=force)
     dg.to_json(json_path, force=force)
     print(dg.summary())
     print(f"wrote {json_path}" + (f" and {Path(report_dir) / 'index.html'}" if report_dir else ""))
     return 0
+
+
+def _run_export(dg, ds, args) -> None:
+    """Run the fit of the export command the report suggests, so the report states what that command gives.
+
+    ``dg.export['fit_rmse']`` [N]: lateral RMSE of ``tyrefit fit DATA --effects <PAC89 export effects>``
+    (:func:`tyrefit.commands.fit.fit_file`, the same code the command runs).
+    """
+    import argparse
+
+    from .fit import fit_file
+
+    eff = list(dg.export.get("effects", []))
+    ns = argparse.Namespace(data=args.data, convention=getattr(args, "convention", "iso") or "iso",
+                            effects=",".join(eff) or None, cost="l2", rated_load=getattr(args, "rated_load", None),
+                            patch=None, rig=None, vertical=None, static_part="peak")
+    result, _ = fit_file(ns, ds=ds)
+    dg.export["fit_rmse"] = float(result.rmse)

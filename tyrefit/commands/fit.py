@@ -251,7 +251,7 @@ def run(args) -> int:
     if getattr(args, "report", None):
         _report(result, extras, args, out)
     parts = ", ".join(f"{p} RMSE {s['rmse']:.4g} {s['unit']} (R² {s['r2']:.4f}, noise floor "
-                      f"{s['noise_floor']:.3g} {s['unit']})" for p, s in result.stats.items())
+                      f"{s['noise_floor']:.4g} {s['unit']})" for p, s in result.stats.items())
     print(f"wrote {out}: {parts}")
     if extras.get("start") is not None:
         print(f"  start model RMSE {extras['start'].rmse:.4g} N -> with {', '.join(extras['effects'])}: "

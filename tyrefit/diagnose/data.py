@@ -121,6 +121,7 @@ class SweepData:
     n_raw: int
     source: str = ""
     notes: list[str] = field(default_factory=list)
+    convention: str = "iso"  # sign convention of the file read (for commands the report suggests)
 
     @property
     def n(self) -> int:
@@ -276,4 +277,5 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 1
         slip_min=float(np.quantile(sa, 0.005)), slip_max=float(np.quantile(sa, 0.995)),
         rated_load=inputs.rated_load, n_sweeps=int(sweep.max()) + 1)
     return SweepData(inputs=inputs, fy=d["fy"].to_numpy(float), sweep=sweep, levels=levels, level_index=lidx,
-                     cell=cell, summary=summary, n_raw=n_raw, source=source, notes=notes)
+                     cell=cell, summary=summary, n_raw=n_raw, source=source, notes=notes,
+                     convention=str(getattr(data, "convention", "iso") or "iso"))

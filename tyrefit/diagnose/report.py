@@ -208,9 +208,12 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
            f"{last.rmse:.1f} N for the final model."))
     if notes:
         r.bullets(notes)
-    cmd_eff = ",".join(dg.effects)
-    r.p(f"To export: tyrefit fit {Path(d.source).name if d.source else 'DATA'}"
-        + (f" --effects {cmd_eff}" if cmd_eff else "") + " --out tyre.tir")
+    if ex.get("fit_rmse") is not None:
+        r.p("To export: " + export_command(dg) + f" - it gives lateral RMSE {ex['fit_rmse']:.1f} N (diagnose ran "
+            f"it; the {ex['rmse']:.1f} N above is diagnose's own refit on its sampled points)")
+    else:
+        r.p("To export: " + export_command(dg) + f" (tyrefit fit refits these terms on every point and prints its "
+            f"own RMSE; diagnose's {ex['rmse']:.1f} N is on its sampled points)")
     coef = ex.get("coefficients", {})
     r.table([{"coefficient": k, "value": v, "freed by": next((e for e in dg.effects
                                                              if k in get_effect(e).pac89 + get_effect(e).pac89_approx),
@@ -267,3 +270,25 @@ def write_report(dg, directory: str | os.PathLike, force: bool = False) -> Path:
         for name, text in tables.items():
             write_text(tmp / name, text, force=True)
     return Path(directory) / "index.html"
+
+
+def export_command(dg) -> str:
+    """The complete ``tyrefit fit`` command that writes the PAC89 .tir of this diagnosis.
+
+    The data as given to diagnose (path and sign convention), the PAC89 effects of the export
+    (``dg.export['effects']``, the ones the reported .tir RMSE is for) and the rated load when an effect
+    uses it.
+    """
+    import shlex
+
+    d = dg.data
+    eff = list(dg.export.get("effects", dg.effects))
+    cmd = ["tyrefit", "fit", d.source or "DATA"]
+    if getattr(d, "convention", "iso") == "sae":
+        cmd += ["--convention", "sae"]
+    if eff:
+        cmd += ["--effects", ",".join(eff)]
+    rated = getattr(d.inputs, "rated_load", None)
+    if rated and any(e.startswith("overload") for e in eff):
+        cmd += ["--rated-load", f"{float(rated):.6g}"]
+    return shlex.join(cmd + ["--out", "tyre.tir"])

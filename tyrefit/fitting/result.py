@@ -332,7 +332,7 @@ class FitResult:
             ratio = s["rmse"] / s["noise_floor"] if s["noise_floor"] > 0 else float("nan")
             rows.append({"part": name, "points": s["n"], "sweeps": s["sweeps"], "Fz range [N]": f"{lo:.0f}–{hi:.0f}",
                          "RMSE": f"{s['rmse']:.4g} {s['unit']}", "R²": s["r2"],
-                         "noise floor (within-sweep)": f"{s['noise_floor']:.3g} {s['unit']}",
+                         "noise floor (within-sweep)": f"{s['noise_floor']:.4g} {s['unit']}",
                          "RMSE / floor": ratio,
                          "point scatter": f"{s['point_scatter']:.3g} {s['unit']}",
                          "Eq. 5 cost Σ|Δμ|": s["eq5_cost"], "fitted coefficients": s["varied"],
