@@ -71,6 +71,7 @@ def _read_tir_all(path) -> None:
         if isinstance(r, Pac89Tyre):
             assert set(r.coefficients) == set(pac89.ALL)
             assert all(isinstance(v, float) for v in r.coefficients.values())
+            _ = r.check(n=5), r.validity(), r.missing  # the checks must not raise either
         elif hasattr(r, "params"):  # an MF tyre: its checks must not raise either
             _ = r.missing, r.check(n=5), r.warnings(n=5), r.validity()
         else:

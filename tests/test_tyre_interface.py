@@ -343,3 +343,27 @@ def test_compare_pac89_against_mf(capsys):
     from tyrefit.cli import main
 
     assert main(["compare", str(EXAMPLE), str(MF61)]) == 0
+
+
+@pytest.mark.parametrize("edit,match", [
+    (lambda t: t.replace("a4  = 12.80", "a4  = 0.0"), "a4 = 0"),
+    (lambda t: t.replace("a3  = 3036.0", "a3  = -3036.0"), "BCD <= 0"),
+    (lambda t: t.replace("a1  = -34.0", "a1  = 5e8"), "peak friction"),
+    (lambda t: t.replace("a0  = 1.65", "a0  = 0.0"), "C <= 0"),
+    (lambda t: t.replace("a5  = 0.00501", "a5  = 0.00501\na5  = 0.1"), "given twice"),
+    (lambda t: t[: t.index("[LONGITUDINAL_COEFFICIENTS]") + 40], "missing"),  # truncated mid-block
+    (lambda t: t[: t.index("a2  =")], "missing"),
+])
+def test_sim_refuses_bad_tyre_files_in_one_line(tmp_path, capsys, edit, match):
+    """Issue 15: a0 = 0, a4 = 0, a3 < 0, huge a1, duplicated keys, truncated files reached sim."""
+    from tyrefit.cli import main
+
+    text = EXAMPLE.read_text()
+    bad = tmp_path / "bad.tir"
+    bad.write_text(edit(text))
+    assert bad.read_text() != text
+    js = tmp_path / "o.json"
+    assert main(["sim", "curved", "--front", str(bad), "--rear", str(EXAMPLE), "--json", str(js)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and match in err[0], err
+    assert not js.exists()
