@@ -249,18 +249,33 @@ def test_any_family_through_the_tyre_interface_at_each_sweeps_pressure():
 
 
 def test_pac89_against_a_magic_formula_file(tmp_path, ref):
-    """PAC89 against the bundled PAC2002 (MF 5.x) file through ``tyrefit compare``."""
-    import tyrefit.tyres
+    """PAC89 against Chrono's PAC2002 (MF 5.x) HMMWV file through ``tyrefit compare``, on cambered data.
 
-    if not hasattr(tyrefit.tyres, "read_tyre"):
-        pytest.skip("the tyre interface tyrefit.tyres.read_tyre (issue 12) is not in this tree yet")
-    mf = sorted(Path("/work/shared/reference/chrono").glob("*.tir"))
-    mf = [p for p in mf if "PAC2002" in p.read_text(errors="replace").upper()]
-    if not mf:
-        pytest.skip("no PAC2002 reference file on this machine")
-    a = tmp_path / "ref.tir"
-    ref.to_tir(a)
+    The data are the MF tyre's own Fy (through the Tyre interface) at 0 and 3 deg camber, so the MF file
+    must score ~0 against them at each sweep's camber; the PAC89 reference tyre is another tyre.
+    """
+    src = Path("/work/shared/reference/chrono/HMMWV_Pac02Tire.tir")
+    if not src.exists():
+        pytest.skip(f"{src} not on this machine")
+    mf = read_tyre(src)
+    assert getattr(mf, "family", "") != "PAC89"
+    rows, run = [], 0
+    a = np.radians(np.arange(-10, 10.001, 0.1))
+    for cam in (0.0, 3.0):
+        for fz in (3000.0, 6000.0):
+            fy = mf.forces(fz, slip_angle=a, camber=math.radians(cam))["fy"]
+            rows.append(pd.DataFrame({"run": run, "fz [N]": fz, "slip_angle [deg]": np.degrees(a),
+                                      "camber [deg]": cam, "fy [N]": fy}))
+            run += 1
+    csv = tmp_path / "mf.csv"
+    pd.concat(rows).to_csv(csv, index=False)
+    a_tir = tmp_path / "ref.tir"
+    ref.to_tir(a_tir)
     js = tmp_path / "c.json"
-    assert main(["compare", str(a), str(mf[0]), "--json", str(js)]) == 0
+    assert main(["compare", str(src), str(a_tir), "--data", str(csv), "--json", str(js), "--allow-unphysical"]) == 0
     doc = json.loads(js.read_text())
-    assert all(np.isfinite(d["cornering_stiffness"][1]) and d["cornering_stiffness"][1] > 0 for d in doc["loads"])
+    assert len(doc["loads"]) == 4
+    for d in doc["loads"]:
+        assert d["data"]["mean_abs_dmu_over_peak_vs_data"][0] < 0.005   # MF at the sweep's own camber
+        assert d["data"]["mean_abs_dmu_over_peak_vs_data"][1] > 0.02
+        assert np.isfinite(d["cornering_stiffness"][0]) and d["cornering_stiffness"][0] > 0

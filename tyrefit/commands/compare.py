@@ -43,10 +43,7 @@ def run(args) -> int:
     """Entry point of ``tyrefit compare``."""
     from ..compare.tyres import compare_tyres
 
-    try:  # the tyre interface of every family (PAC89, MF 5.2, MF 6.1/6.2)
-        from ..tyres import read_tyre
-    except ImportError:  # pragma: no cover - before tyrefit.tyres.read_tyre existed
-        from ..io.tir import read_tyre
+    from ..io.tir import read_tyre  # every family (PAC89, MF 5.2, MF 6.1/6.2) behind the Tyre interface
 
     check_outputs(args)
     ta = read_tyre(args.tyre_a)
