@@ -15,7 +15,9 @@ Conventions
   kappa [-], ``slip_angle`` alpha [rad], ``camber`` gamma [rad], ``pressure``
   [Pa], ``speed`` = forward speed of the wheel centre Vcx [m/s] (>= 0).
   Outputs ``fx``, ``fy`` [N], ``mx``, ``my``, ``mz`` [N*m] in ISO-W, the MF
-  ``.tir`` convention: ``PKY1 < 0`` gives ``fy < 0`` for ``slip_angle > 0``.
+  ``.tir`` convention: a negative cornering stiffness K_y_alpha (PKY1 < 0 with
+  PKY4 > 0, or PKY1 > 0 with PKY4 < 0 as in some vendor files) gives
+  ``fy < 0`` for ``slip_angle > 0``.
 * Coefficients: a mapping of ``.tir`` keys in upper case.  A missing scaling
   factor ``L*`` is 1 (``LMUV``, a speed-decay rate whose neutral value is 0,
   is 0); any other missing coefficient is 0.  ``FNOMIN``, ``NOMPRES``,
@@ -61,6 +63,9 @@ guards (4.E6a): eps = 1e-6 with the sign of the guarded quantity in the
 denominators of Bx (4.E16), By (4.E26), SHy (4.E27) and SHf (K'y_alpha, 4.E39).
 E factors are limited to <= 1 (4.E14, 4.E24, 4.E44, 4.E56, 4.E64).
 
+MF 6.2 files (FITTYP 62) are evaluated with these equations too: the force and
+moment equations of 6.2 without turn slip are those of 6.1 (as MFeval does).
+
 Not done here (a simulator's or the caller's choice): clipping the inputs to
 the ``[*_RANGE]`` sections (:func:`clip_to_ranges` does it on request) and
 TNO's extra reductions of Mx and My below FZMIN.
@@ -89,6 +94,16 @@ Project Chrono's ``ChPac02Tire`` evaluates PAC2002 files differently in places
 +-(pi/2 - 0.01), uses (1 + PDY3 gamma^2) and combines by a friction ellipse
 unless told otherwise); those are Chrono's choices, not the 5.2 manual's, and
 are not followed here.
+
+For fitting
+-----------
+:func:`fx0`, :func:`fy0` and :func:`mz0` give the pure-slip parts; :data:`GROUPS`
+names the coefficients of each stage (Fx0, Fy0, Mz0, combined Fx, Fy, Mz, Mx,
+My); :data:`PRESSURE_TERMS`, :data:`CAMBER_TERMS` and :data:`SPEED_TERMS` the
+terms that only pressure, camber or speed levels can identify; :func:`factors`
+the C, mu, D, K, B, E of a parameter set for the physical checks; coefficients
+may be arrays to evaluate many candidate sets at once; :func:`neutral` a
+complete finite starting set.
 
 Out of scope
 ------------
