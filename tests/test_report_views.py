@@ -252,3 +252,14 @@ def test_inspect_drive_brake_record_read_as_sae_does_not_ask_for_sae(tmp_path, c
     assert main(["inspect", str(p), "--convention", "sae"]) == 0
     out = capsys.readouterr().out
     assert "slip_ratio test" in out and "(--convention sae)?" not in out and "not ISO-W" not in out
+
+
+def test_signature_legend_labels_are_rounded():
+    """The diagnose signature legend read 'data -0.000451 deg' for the zero-camber level."""
+    from tyrefit.effects.signatures import _group_label
+
+    lv = [math.radians(-0.000451), math.radians(2.0), math.radians(4.0)]
+    assert [_group_label("camber", v, lv) for v in lv] == ["camber 0.0°", "camber 2.0°", "camber 4.0°"]
+    assert _group_label("fz", 1111.2, [1111.2]) == "1.11 kN"
+    assert _group_label("pressure", 200.4e3, [200.4e3, 200.9e3]) != _group_label("pressure", 200.9e3,
+                                                                                   [200.4e3, 200.9e3])

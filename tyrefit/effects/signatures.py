@@ -160,6 +160,16 @@ def _levels(v: pd.Series, tol: float) -> pd.Series:
 _TOL = {"fz": 200.0, "camber": 0.25 * _DEG, "pressure": 5e3, "speed": 1.0}
 
 
+def _group_label(channel: str, value: float, levels) -> str:
+    """Legend label of a condition level in display units, rounded so that levels stay distinct
+    ('camber 0.0°', not '-0.000451 deg'; :mod:`tyrefit.io.facets`)."""
+    from ..io.facets import _decimals, format_condition, format_load
+
+    if channel == "fz":
+        return format_load(value)
+    return format_condition(channel, value, _decimals(channel, levels))
+
+
 def plot(effect, view: SignatureView, ax=None):
     """Plot ``effect``'s signature view; returns the Axes."""
     import matplotlib.pyplot as plt
@@ -185,7 +195,7 @@ def plot(effect, view: SignatureView, ax=None):
     for i, g in enumerate(groups):
         col = cmap(i / max(len(groups) - 1, 1))
         m = d["_g"] == g
-        glab = "" if group is None else f"{g * _X[group][0]:.3g} {_X[group][1].split('[')[-1].rstrip(']')}"
+        glab = "" if group is None else _group_label(group, g, groups)
         ax.plot(d.loc[m, xc] * xf, d.loc[m, ych] * yf, "o", color=col, ms=3.5, alpha=0.6,
                 label=f"data {glab}".strip())
         for frame, style, lab in ((view.before, "--", view.before_label), (view.after, "-", view.after_label)):
