@@ -8,6 +8,10 @@ files): ``[MDI_HEADER]``, ``[UNITS]``, ``[MODEL]``, ``[DIMENSION]``,
 ``[LATERAL_COEFFICIENTS]``, ``[ROLLING_COEFFICIENTS]``,
 ``[ALIGNING_COEFFICIENTS]`` and ``[TURNSLIP_COEFFICIENTS]``.
 
+``version='5.2'`` writes the same layout as ``FITTYP = 6`` for a parameter set
+meant for the MF 5.2 equations (the 6.1-only keys left out, LGAX/LGAY/LGAZ and
+PHY3 added), so that every reader evaluates it with the 5.2 equations.
+
 Design choices
 --------------
 * **Every coefficient is written** (:data:`tyrefit.models.mf61.COEFFICIENTS`),
@@ -47,7 +51,7 @@ from ..errors import ModelError
 from ..models import mf61
 from .outputs import write_text
 
-__all__ = ["write_mf_tir", "format_mf_tir", "SECTIONS", "TURNSLIP", "RANGE_KEYS"]
+__all__ = ["write_mf_tir", "format_mf_tir", "SECTIONS", "TURNSLIP", "RANGE_KEYS", "ONLY_61"]
 
 #: generic turn-slip values of TNO's example files (MFeval 4.0 readTIR defaults); not fitted by tyrefit
 TURNSLIP: dict[str, float] = {
@@ -279,20 +283,42 @@ def _not_fitted_lines(not_fitted: Iterable[str]) -> list[str]:
     return lines
 
 
+#: MF 6.1 keys an MF 5.2 file does not carry (its equations have no such terms)
+ONLY_61: frozenset[str] = frozenset(
+    [f"PPX{i}" for i in range(1, 5)] + [f"PPY{i}" for i in range(1, 6)] + ["PPZ1", "PPZ2", "PPMX1"]
+    + [f"QSX{i}" for i in range(4, 15)] + [f"QSY{i}" for i in range(5, 9)]
+    + ["PKY5", "PKY6", "PKY7", "PEY5", "RBX3", "RBY4", "QDZ10", "QDZ11", "LKYC", "LKZC", "LMP"])
+
+
+def _keys(version: str) -> dict[str, list[str]]:
+    """Section -> keys written for ``version`` ('6.1' or '5.2')."""
+    if version == "6.1":
+        return mf61.COEFFICIENTS
+    out = {sec: [n for n in names if n not in ONLY_61] for sec, names in mf61.COEFFICIENTS.items()}
+    for sec, extra in mf61.COEFFICIENTS_52.items():
+        out[sec] = out[sec] + list(extra)
+    return out
+
+
 def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Iterable[str] = (),
-                  not_fitted: Iterable[str] = ()) -> str:
-    """The text of a ``FITTYP = 61`` property file; see :func:`write_mf_tir`."""
+                  not_fitted: Iterable[str] = (), version: str = "6.1") -> str:
+    """The text of a ``FITTYP = 61`` (or, with ``version='5.2'``, ``FITTYP = 6``) property file;
+    see :func:`write_mf_tir`."""
+    version = mf61.resolve_version({}, version)
+    fittyp = 61 if version == "6.1" else 6
+    keys = _keys(version)
     given = {str(k).upper(): v for k, v in params.items()}
     given.update(_ranges(ranges))
-    base = mf61.neutral()
+    base = dict(mf61.neutral(), LGAX=1.0, LGAY=1.0, LGAZ=1.0, PHY3=0.0)
     values: dict[str, object] = {}
     defaulted: dict[str, list[str]] = {}
-    for section, names in mf61.COEFFICIENTS.items():
+    for section, names in keys.items():
         for n in names:
             if n == "FITTYP":
-                values[n] = 61
+                values[n] = fittyp
                 continue
-            if n in given and given[n] is not None and str(given[n]).strip() != "":
+            unit_name = n == "MASS" and isinstance(given.get(n), str)   # [UNITS] MASS = 'kg', not a mass
+            if n in given and given[n] is not None and str(given[n]).strip() != "" and not unit_name:
                 v = given[n]
             else:
                 v = base[n]
@@ -300,9 +326,9 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
             try:
                 fv = float(v)
             except (TypeError, ValueError):
-                raise ModelError(f"{n} = {v!r} is not a number; an MF 6.1 file needs a finite value") from None
+                raise ModelError(f"{n} = {v!r} is not a number; an MF {version} file needs a finite value") from None
             if not math.isfinite(fv):
-                raise ModelError(f"{n} = {fv} is not finite; an MF 6.1 file needs a finite value")
+                raise ModelError(f"{n} = {fv} is not finite; an MF {version} file needs a finite value")
             values[n] = fv
     for key in ("FNOMIN", "NOMPRES", "LONGVL", "UNLOADED_RADIUS"):
         if not values[key] > 0:
@@ -313,13 +339,13 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
 
     out = ["[MDI_HEADER]", _line("FILE_TYPE", "'tir'"), _line("FILE_VERSION", "3.0"),
            _line("FILE_FORMAT", "'ASCII'"),
-           "$ MF-Tyre 6.1 property file (FITTYP = 61) written by tyrefit; SI units, ISO-W signs"]
+           f"$ MF-Tyre {version} property file (FITTYP = {fittyp}) written by tyrefit; SI units, ISO-W signs"]
     out += [f"$ {_clean(h)}" for h in header if _clean(h)]
     out += [f"$ {s}" for s in _not_fitted_lines(not_fitted)]
     for section, names in defaulted.items():
         if section == "MODEL":
             continue
-        what = "all" if len(names) == len(mf61.COEFFICIENTS[section]) else ", ".join(names)
+        what = "all" if len(names) == len(keys[section]) else ", ".join(names)
         kind = "scaling factors 1" if section == "SCALING_COEFFICIENTS" else "neutral / generic values"
         out.append(f"$ DEFAULTS [{section}]: {what}: {kind}, not from data")
     turnslip = {}
@@ -344,7 +370,7 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
         if section == "TURNSLIP_COEFFICIENTS":
             out += [_line(k, _num(k, v)) for k, v in turnslip.items()]
             continue
-        for n in mf61.COEFFICIENTS[section]:
+        for n in keys[section]:
             out.append(_line(n, _num(n, values[n]), _DESCRIPTION.get(n, "")))
             if section == "MODEL" and n == "FITTYP":
                 out.append(_line("TYRESIDE", f"'{tyreside}'", "Position of tyre during measurements"))
@@ -363,7 +389,8 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
 
 
 def write_mf_tir(params: Mapping, path: str | os.PathLike, *, ranges: Mapping | None = None,
-                 header: Iterable[str] = (), not_fitted: Iterable[str] = (), force: bool = False) -> Path:
+                 header: Iterable[str] = (), not_fitted: Iterable[str] = (), force: bool = False,
+                 version: str = "6.1") -> Path:
     """Write an MF 6.1 (``FITTYP = 61``) tyre property file with every coefficient.
 
     Parameters
@@ -385,6 +412,10 @@ def write_mf_tir(params: Mapping, path: str | os.PathLike, *, ranges: Mapping | 
         (``'fx'``, ``'mz'``, ``'mx'`` ...), section names, or free text.
     force : bool
         Replace an existing file.
+    version : {'6.1', '5.2'}
+        '5.2' writes an MF 5.2 file (``FITTYP = 6``) for a parameter set meant for the 5.2
+        equations: the 6.1-only keys (:data:`ONLY_61`: pressure terms, QSX4-QSX14, ...) are
+        left out and LGAX / LGAY / LGAZ and PHY3 are added.
 
     Returns
     -------
@@ -399,5 +430,5 @@ def write_mf_tir(params: Mapping, path: str | os.PathLike, *, ranges: Mapping | 
     OutputExistsError
         ``path`` exists and ``force`` is false.
     """
-    text = format_mf_tir(params, ranges=ranges, header=header, not_fitted=not_fitted)
+    text = format_mf_tir(params, ranges=ranges, header=header, not_fitted=not_fitted, version=version)
     return write_text(path, text, force=force)
