@@ -1,55 +1,62 @@
-"""The hidden-effect suite: right family first, nothing in null data, held-out error near the noise.
+"""Issue 11's rates on truths outside the effect catalogue (slow tier) and the mutation check.
 
-The default tier runs a fast subset (one case per family spread over the three
-noise models, one null case per noise model); the full suite (4 seeds per
-family and noise model, 20 null seeds per noise model) is ``@pytest.mark.slow``.
-``python -m tyrefit.synthetic.hidden [--full]`` prints the same rates.
+The cases come from :mod:`tyrefit.synthetic.validation` (a truth tyre and
+effects written without the catalogue's forms; see its docstrings).  The
+slow tier asserts the issue's targets on one-sweep-per-load data (6 sweeps),
+that data with >= 8 sweeps keep their rates, and that the suite *fails* when
+the engine is broken on purpose (held-out evidence replaced by in-sample,
+guards removed): a validation that passes a broken engine validates nothing.
+``python -m tyrefit.synthetic.validation`` prints the same rates for many more
+cases (the lead's table); here the counts are kept to minutes.
 """
 
-import numpy as np
 import pytest
 
-from tyrefit.diagnose import diagnose
-from tyrefit.synthetic.hidden import EFFECT_SIZES, NOISE_MODELS, make_case, run_suite, score_case, suite_cases
+from tyrefit.synthetic.validation import runner as vr
 
-FAST = [(("load_friction",), "iid"), (("curvature_load",), "ar1"), (("overload",), "offsets"),
-        (("camber",), "ar1"), (("offsets",), "offsets"), (("pressure",), "iid"), (("speed",), "ar1"),
-        (("camber", "pressure"), "offsets"), ((), "iid"), ((), "offsets"), ((), "ar1")]
+pytestmark = pytest.mark.slow
 
-
-@pytest.mark.parametrize("truth,noise", FAST, ids=[f"{'+'.join(t) or 'null'}-{n}" for t, n in FAST])
-def test_fast_subset(truth, noise):
-    case = make_case(truth, noise, seed=31)
-    row = score_case(case, diagnose(case.data, rated_load=case.rated_load, seed=31))
-    if truth:
-        assert row["right_first"], row
-        assert row["all_found"], row
-        assert row["ratio_to_true_noise"] <= 1.3, row
-    else:
-        assert row["null_clean"], row
+#: seeds per (noise, effect) and nulls per noise model in the slow tier
+N_EFFECT, N_NULL = 10, 30
 
 
-def test_suite_definition_covers_every_family_and_noise_model():
-    cases = suite_cases(full=True)
-    truths = {t for t, _, _ in cases}
-    for fam in EFFECT_SIZES:
-        assert (fam,) in truths
-    assert ("camber", "pressure") in truths and () in truths
-    assert {n for _, n, _ in cases} == set(NOISE_MODELS)
-    assert sum(1 for t, n, _ in cases if not t and n == "ar1") == 20
+def _failed(checks):
+    return [f"{c['noise']} {c['family']} {c['check']}: {c['k']}/{c['n']}" for c in checks if not c["ok"]]
 
 
-def test_noise_models_have_the_stated_total_sd():
-    for noise in NOISE_MODELS:
-        sds = [np.std(make_case((), noise, seed=s, sigma=40.0).data["fy"]
-                      - make_case((), noise, seed=s, sigma=1e-9).data["fy"]) for s in range(6)]
-        assert np.mean(sds) == pytest.approx(40.0, rel=0.12), noise
+def test_one_sweep_per_load_meets_the_issue_targets():
+    effects = [e for effs in vr.TARGET_FAMILIES.values() for e in effs]
+    rows = vr.run(vr.plan_cases(["load6"], None, effects + ["null"], n_null=N_NULL, n_effect=N_EFFECT),
+                  verbose=False)
+    checks = vr.check_targets(rows, "load6")
+    assert sum(c["check"] in ("false alarms", "right family first") for c in checks) == 3 * (1 + 4)
+    assert not _failed(checks), _failed(checks)
 
 
-@pytest.mark.slow
-def test_full_suite_rates():
-    res = run_suite(full=True, verbose=False)
-    assert res["right_first_rate"] >= 0.9
-    for noise, rate in res["null_clean_rate"].items():
-        assert rate >= 0.9, noise
-    assert res["heldout_ok_rate"] >= 0.9
+def test_eight_sweeps_and_more_keep_their_rates():
+    # 4 loads x 3 cambers x 2 pressures: the kind of grid the previous suite had (30 sweeps)
+    rows = vr.run(vr.plan_cases(["grid24"], None, None, n_null=6, n_effect=2), verbose=False)
+    res = vr.rates(rows)
+    bad = []
+    for g in res["groups"]:
+        if g["effect"] == "null":
+            if g["false_alarm"] > vr.TARGETS["false_alarm"]:
+                bad.append(f"{g['noise']} null: {g['false_alarm']:.2f} false alarms")
+        elif g["right_first"] < 0.9:  # the previous session's suite required >= 90 %
+            bad.append(f"{g['noise']} {g['effect']}: right first {g['right_first']:.2f} ({g['first_families']})")
+    assert not bad, bad
+
+
+#: mutations the suite must catch on the current engine (see MUTATIONS; names follow tyrefit.diagnose.engine)
+MUST_CATCH = ["insample+noconfirm+noscreen", "noconfirm+noscreen"]
+
+
+@pytest.mark.parametrize("mutation", MUST_CATCH)
+def test_the_suite_fails_a_broken_engine(mutation):
+    n = 8
+    rows = vr.run(vr.plan_cases(["load6", "grid24"], ["offsets"], ["null"], n_null=n), verbose=False,
+                  mutation=mutation)
+    fa = {(r["layout"], r["noise"]): 0 for r in rows}
+    for r in rows:
+        fa[(r["layout"], r["noise"])] += bool(r.get("false_alarm", True))
+    assert max(fa.values()) / n > vr.TARGETS["false_alarm"], fa

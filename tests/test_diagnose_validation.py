@@ -222,3 +222,37 @@ def test_a_handful_of_diagnoses(layout, noise, effect):
     else:
         assert row["right_first"], row
         assert row["ratio"] <= 1.3, row
+
+
+def test_check_targets_pools_a_family_and_counts_misses():
+    def row(eff, noise, right=True, ratio=1.1, fa=None):
+        r = {"layout": "load6", "noise": noise, "effect": eff, "ratio_first": ratio, "right_first": right}
+        if eff is None:
+            r = {"layout": "load6", "noise": noise, "effect": None, "false_alarm": fa}
+        return r
+    rows = ([row("load_friction_power", "iid")] * 10 + [row("load_friction_tanh", "iid", right=False)]
+            + [row("offsets", "iid", ratio=1.4)] * 2 + [row(None, "iid", fa=False)] * 19 + [row(None, "iid", fa=True)])
+    checks = {(c["family"], c["check"]): c for c in vr.check_targets(rows)}
+    lf = checks[("load_friction", "right family first")]
+    assert (lf["k"], lf["n"], lf["ok"]) == (10, 11, False)
+    assert checks[("load_friction", "held-out RMSE after it <= 1.3 sigma")]["ok"]
+    assert not checks[("offsets", "held-out RMSE after it <= 1.3 sigma")]["ok"]
+    fa = checks[("null", "false alarms")]
+    assert (fa["k"], fa["n"], fa["ok"]) == (1, 20, True)
+    assert "**no**" in vr.targets_markdown(list(checks.values()))
+
+
+def test_insample_mutation_makes_held_out_equal_in_sample_and_is_undone():
+    from tyrefit.diagnose import diagnose, engine
+
+    case = vc.make_case("grid8", "iid", None, 0)
+    orig = engine.fit
+    with vr.mutated("insample"):
+        assert engine.fit is not orig
+        dg = diagnose(case.data, rated_load=case.rated_load, seed=0)
+    assert engine.fit is orig
+    step = dg.steps[0]
+    assert step.rmse_heldout == pytest.approx(step.rmse, rel=1e-6)
+    with pytest.raises(ValueError, match="unknown mutation"):
+        with vr.mutated("nope"):
+            pass

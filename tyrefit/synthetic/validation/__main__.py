@@ -9,7 +9,8 @@ import time
 from pathlib import Path
 
 from .cases import LAYOUTS, NOISE_MODELS, SIGMA
-from .runner import PLAN, base_fit, fingerprint, git_commit, markdown, plan_cases, rates, run
+from .runner import (MUTATIONS, PLAN, base_fit, check_targets, fingerprint, git_commit, markdown, plan_cases, rates,
+                     run, targets_markdown)
 from .truth import EFFECT_FAMILY, EFFECTS
 
 
@@ -28,6 +29,8 @@ def main(argv=None) -> int:
     ap.add_argument("--n-effect", type=int, help="seeds per effect x layout x noise (default per layout: "
                     + ", ".join(f"{k} {v[1]}" for k, v in PLAN.items()) + ")")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    ap.add_argument("--mutation", help="run a deliberately broken engine (one job): "
+                    + "; ".join(f"{k}: {v}" for k, v in MUTATIONS.items()) + "; join with '+'")
     ap.add_argument("--base-fit", action="store_true", help="also measure how well the start model fits each truth")
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
@@ -39,19 +42,28 @@ def main(argv=None) -> int:
     cases = plan_cases(args.layout, args.noise, args.family, args.n_null, args.n_effect)
     out = Path(args.out)
     t0 = time.perf_counter()
-    rows = run(cases, out=out, jobs=args.jobs, verbose=not args.quiet)
+    for m in (args.mutation or "").split("+"):
+        if m and m not in MUTATIONS:
+            print(f"error: unknown mutation {m!r}; known: {', '.join(MUTATIONS)}", file=sys.stderr)
+            return 2
+    rows = run(cases, out=out, jobs=args.jobs, verbose=not args.quiet, mutation=args.mutation)
     res = rates(rows)
     meta = {"commit": git_commit(), "code fingerprint": fingerprint(), "true noise sigma [N]": SIGMA,
-            "cases": len(rows), "seconds (this call)": round(time.perf_counter() - t0, 1),
+            "cases": len(rows), "mutation": args.mutation or "none", "seconds (this call)": round(time.perf_counter() - t0, 1),
             "command": "python -m tyrefit.synthetic.validation " + " ".join(sys.argv[1:] if argv is None else argv)}
     if args.base_fit:
         meta["start-model fit to noise-free truth, RMSE / sigma"] = {
             lay: {k: round(v, 3) for k, v in d.items()} for lay, d in base_fit(args.layout).items()}
+    checks = [c for lay in dict.fromkeys(r["layout"] for r in rows) if lay.startswith("load")
+              for c in check_targets(rows, lay)]
     res["meta"] = meta
+    res["targets"] = checks
     res["rows"] = rows
     out.mkdir(parents=True, exist_ok=True)
     (out / "rates.json").write_text(json.dumps(res, indent=1, default=str))
     md = markdown(res, {k: v for k, v in meta.items() if not isinstance(v, dict)})
+    if checks:
+        md += "\nIssue 11 targets (one sweep per load):\n\n" + targets_markdown(checks)
     if args.base_fit:
         md += "\nStart-model fit to the noise-free truth, RMSE / sigma:\n\n"
         for lay, d in meta["start-model fit to noise-free truth, RMSE / sigma"].items():

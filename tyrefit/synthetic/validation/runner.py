@@ -26,6 +26,7 @@ import math
 import os
 import subprocess
 import time
+from contextlib import contextmanager
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -34,7 +35,7 @@ import numpy as np
 from .cases import LAYOUTS, NOISE_MODELS, SIGMA, applicable, make_case
 from .truth import EFFECT_FAMILY, EFFECTS
 
-__all__ = ["PLAN", "plan_cases", "run_case", "run", "rates", "markdown", "fingerprint", "wilson", "base_fit",
+__all__ = ["check_targets", "MUTATIONS", "mutated", "PLAN", "plan_cases", "run_case", "run", "rates", "markdown", "fingerprint", "wilson", "base_fit",
            "TARGETS"]
 
 #: issue 11's targets on the one-sweep-per-load layout
@@ -74,6 +75,61 @@ def git_commit() -> str | None:
         return head + ("+dirty" if dirty and head else "") if head else None
     except (OSError, subprocess.SubprocessError):
         return None
+
+
+#: deliberate breakages of the engine that a validation worth the name must catch (issue 11)
+MUTATIONS = {
+    "insample": "held-out evidence replaced by in-sample: every refit on a subset (fold, level) fits all the data",
+    "noconfirm": "the confirmation guards removed: every screened candidate that is refitted is confirmed",
+    "noscreen": "the screening test removed: every candidate counts as significant (Holm-adjusted p = 0)",
+}
+
+
+@contextmanager
+def mutated(name: str | None):
+    """Patch :mod:`tyrefit.diagnose.engine` with mutation ``name`` (see :data:`MUTATIONS`) for the block.
+
+    In-process only (``jobs=1``).  Raises ``LookupError`` when the engine no
+    longer has the attribute a mutation patches, so a renamed engine fails
+    loudly instead of running unmutated.
+    """
+    if not name:
+        yield
+        return
+    if "+" in name:
+        first, rest = name.split("+", 1)
+        with mutated(first), mutated(rest):
+            yield
+        return
+    from ...diagnose import engine
+
+    if name == "noscreen":
+        attr = "holm"
+        orig = getattr(engine, attr, None)
+
+        def patched(p, *a, **k):
+            return [0.0] * len(p)
+    elif name == "insample":
+        attr = "fit"
+        orig = getattr(engine, attr, None)
+
+        def patched(spec, data, *a, idx=None, **k):
+            return orig(spec, data, *a, **k)
+    elif name == "noconfirm":
+        attr = "_confirm"
+        orig = getattr(engine, attr, None)
+
+        def patched(*a, **k):
+            return None
+    else:
+        raise ValueError(f"unknown mutation {name!r}; known: {', '.join(MUTATIONS)}")
+    if orig is None:
+        raise LookupError(f"tyrefit.diagnose.engine has no {attr!r} to mutate ({name}); adapt MUTATIONS")
+    setattr(engine, attr, patched)
+    try:
+        yield
+    finally:
+        setattr(engine, attr, orig)
 
 
 def plan_cases(layouts=None, noises=None, families=None, n_null=None, n_effect=None):
@@ -121,7 +177,9 @@ def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_
            "seed": seed, "accepted": acc, "first_family": fams[0] if fams else None,
            "rmse_heldout": float(last.rmse_heldout), "rmse_start_heldout": float(dg.steps[0].rmse_heldout),
            "noise_floor": float(dg.noise_floor), "sigma": case.sigma,
-           "ratio": float(last.rmse_heldout) / case.sigma, "seconds": time.perf_counter() - t0}
+           "ratio": float(last.rmse_heldout) / case.sigma,
+           "ratio_first": float(dg.steps[1].rmse_heldout) / case.sigma if len(dg.steps) > 1 else None,
+           "seconds": time.perf_counter() - t0}
     if effect is None:
         row["false_alarm"] = bool(acc)
     else:
@@ -149,9 +207,15 @@ def _worker(args):
     return run_case(lay, noise, eff, seed, **kw)
 
 
-def run(cases, out: Path | None = None, jobs: int = 1, verbose: bool = True, **diagnose_kw) -> list[dict]:
-    """Score ``cases`` (from :func:`plan_cases`), reusing cached rows under ``out``; return the rows."""
-    fp = fingerprint() + (("-" + hashlib.sha1(json.dumps(diagnose_kw, sort_keys=True, default=str).encode())
+def run(cases, out: Path | None = None, jobs: int = 1, verbose: bool = True, mutation: str | None = None,
+        **diagnose_kw) -> list[dict]:
+    """Score ``cases`` (from :func:`plan_cases`), reusing cached rows under ``out``; return the rows.
+
+    ``mutation`` runs the engine with one of :data:`MUTATIONS` (in-process, one job).
+    """
+    if mutation:
+        jobs = 1
+    fp = fingerprint() + (f"-{mutation}" if mutation else "") + (("-" + hashlib.sha1(json.dumps(diagnose_kw, sort_keys=True, default=str).encode())
                            .hexdigest()[:6]) if diagnose_kw else "")
     rows, todo = [], []
     for c in cases:
@@ -184,8 +248,9 @@ def run(cases, out: Path | None = None, jobs: int = 1, verbose: bool = True, **d
             for c, row in zip(todo, ex.map(_worker, [(*c, diagnose_kw) for c in todo])):
                 keep(c, row)
     else:
-        for c in todo:
-            keep(c, run_case(*c, **diagnose_kw))
+        with mutated(mutation):
+            for c in todo:
+                keep(c, run_case(*c, **diagnose_kw))
     return rows
 
 
@@ -223,11 +288,70 @@ def rates(rows: list[dict]) -> dict:
             if len(ratios):
                 g.update(ratio_median=float(np.median(ratios)), ratio_p95=float(np.quantile(ratios, 0.95)),
                          ratio_ok=float(np.mean(ratios <= TARGETS["ratio"])))
+            first = np.array([r["ratio_first"] for r in ok if r["right_first"] and r.get("ratio_first") is not None])
+            if len(first):
+                g.update(ratio_first_median=float(np.median(first)), ratio_first_p95=float(np.quantile(first, 0.95)),
+                         ratio_first_ok=float(np.mean(first <= TARGETS["ratio"])))
         if ok:
             g["seconds_mean"] = float(np.mean([r["seconds"] for r in ok]))
             g["ratio_all_median"] = float(np.median([r["ratio"] for r in ok]))
         out.append(g)
     return {"groups": out}
+
+
+#: the issue's families on one-sweep-per-load data -> the validation effects pooled under each
+TARGET_FAMILIES = {"load_friction": ("load_friction_power", "load_friction_tanh"), "curvature_load": ("curvature",),
+                   "offsets": ("offsets",), "overload": ("overload",)}
+
+
+def check_targets(rows: list[dict], layout: str = "load6") -> list[dict]:
+    """Issue 11's targets on ``layout``, one check per (noise, family) and per noise for the nulls.
+
+    Effect checks pool the family's validation effects: right family first in
+    >= 95 % of sets, and held-out RMSE after it (the step that added it)
+    <= 1.3 x the true sigma in >= 95 % of the right-first sets.  Null checks:
+    false alarms <= 5 %.  Each check carries n, the count, the share and its
+    Wilson 95 % interval, and ``ok``.
+    """
+    out = []
+    lay = [r for r in rows if r["layout"] == layout]
+    for noise in NOISE_MODELS:
+        nr = [r for r in lay if r["noise"] == noise]
+        nulls = [r for r in nr if r["effect"] is None]
+        if nulls:
+            k = sum(bool(r.get("false_alarm", True)) for r in nulls)
+            out.append({"layout": layout, "noise": noise, "check": "false alarms", "family": "null", "n": len(nulls),
+                        "k": k, "share": k / len(nulls), "ci": wilson(k, len(nulls)),
+                        "ok": k / len(nulls) <= TARGETS["false_alarm"]})
+        for fam, effs in TARGET_FAMILIES.items():
+            rs = [r for r in nr if r["effect"] in effs]
+            if not rs:
+                continue
+            k = sum(bool(r.get("right_first")) for r in rs)
+            out.append({"layout": layout, "noise": noise, "check": "right family first", "family": fam, "n": len(rs),
+                        "k": k, "share": k / len(rs), "ci": wilson(k, len(rs)),
+                        "ok": k / len(rs) >= TARGETS["right_first"]})
+            rf = [r["ratio_first"] for r in rs if r.get("right_first") and r.get("ratio_first") is not None]
+            if rf:
+                kk = sum(x <= TARGETS["ratio"] for x in rf)
+                out.append({"layout": layout, "noise": noise, "check": "held-out RMSE after it <= 1.3 sigma",
+                            "family": fam, "n": len(rf), "k": kk, "share": kk / len(rf), "ci": wilson(kk, len(rf)),
+                            "ok": kk / len(rf) >= TARGETS["right_first"], "median": float(np.median(rf)),
+                            "max": float(np.max(rf))})
+    return out
+
+
+def targets_markdown(checks: list[dict]) -> str:
+    """The target checks as a markdown table."""
+    if not checks:
+        return ""
+    lines = ["| layout | noise | family | check | n | share [95 % CI] | target | holds |", "|---|---|---|---|---|---|---|---|"]
+    for c in checks:
+        tgt = {"false alarms": "<= 5 %", "right family first": ">= 95 %"}.get(c["check"], ">= 95 % of sets")
+        extra = f" (median {c['median']:.2f}, max {c['max']:.2f})" if "median" in c else ""
+        lines.append(f"| {c['layout']} | {c['noise']} | {c['family']} | {c['check']} | {c['n']} | "
+                     f"{_pct(c['share'], c['ci'])}{extra} | {tgt} | {'yes' if c['ok'] else '**no**'} |")
+    return "\n".join(lines) + "\n"
 
 
 def _counts(it) -> dict:
@@ -252,8 +376,9 @@ def markdown(res: dict, meta: dict | None = None) -> str:
         for k, v in meta.items():
             lines.append(f"- {k}: {v}")
         lines.append("")
-    lines.append("| layout | noise | truth (family) | n | right first [95 % CI] | found | held-out / true sigma "
-                 "(median, p95; share <= 1.3) | false alarms [95 % CI] | first accepted | s/case |")
+    lines.append("| layout | noise | truth (family) | n | right first [95 % CI] | found | held-out / true sigma after "
+                 "the first effect (median, p95; share <= 1.3) / final median | false alarms [95 % CI] | "
+                 "first accepted | s/case |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|")
     for g in res["groups"]:
         if g["effect"] == "null":
@@ -263,8 +388,9 @@ def markdown(res: dict, meta: dict | None = None) -> str:
                          f"{_pct(g['false_alarm'], g['false_alarm_ci'])} | {first} | "
                          f"{g.get('seconds_mean', float('nan')):.1f} |")
         else:
-            rat = (f"{g['ratio_median']:.2f}, {g['ratio_p95']:.2f}; {_pct(g['ratio_ok'])}"
-                   if "ratio_median" in g else "-")
+            rat = (f"{g['ratio_first_median']:.2f}, {g['ratio_first_p95']:.2f}; {_pct(g['ratio_first_ok'])}"
+                   if "ratio_first_median" in g else "-")
+            rat += f" / final {g['ratio_median']:.2f}" if "ratio_median" in g else ""
             first = ", ".join(f"{k} {v}" for k, v in list(g["first_families"].items())[:3])
             lines.append(f"| {g['layout']} | {g['noise']} | {g['effect']} ({g['family']}) | {g['n']} | "
                          f"{_pct(g['right_first'], g['right_first_ci'])} | {_pct(g['found'])} | {rat} | | {first} | "
