@@ -383,11 +383,15 @@ def _basic(c, v52, fz, kappa, alpha, gamma, pressure, speed) -> _Basic:
         # MF 6.1 low-speed model (TNO; MFeval 4.0 Solver.parseInputs): below VXLOW the slip
         # ratio falls linearly with |Vcx|, the slip angle with (|Vcx| + |Vsy|), and the shifts,
         # trail and residual torque with the smooth factor 1 - W, W = (1 + cos(pi Vcx/VXLOW))/2
+        # (the branches only save work when no point is that slow; the result is the same)
         low = vcx <= vxlow
-        kappa = np.where(low, kappa * np.minimum(vcx / vxlow, 1.0), kappa)
-        ssum = vcx + np.abs(np.tan(alpha) * vcx)
-        alpha = np.where(ssum < vxlow, alpha * np.minimum(ssum / vxlow, 1.0), alpha)
-        b.red = np.where(low, 0.5 * (1.0 - np.cos(np.pi * np.minimum(vcx, vxlow) / vxlow)), 1.0)
+        b.red = 1.0
+        if np.any(low):
+            kappa = np.where(low, kappa * np.minimum(vcx / vxlow, 1.0), kappa)
+            b.red = np.where(low, 0.5 * (1.0 - np.cos(np.pi * np.minimum(vcx, vxlow) / vxlow)), 1.0)
+        if np.any(vcx < vxlow):   # |Vcx| + |Vsy| < VXLOW needs |Vcx| < VXLOW
+            ssum = vcx + np.abs(np.tan(alpha) * vcx)
+            alpha = np.where(ssum < vxlow, alpha * np.minimum(ssum / vxlow, 1.0), alpha)
     else:
         b.red = 1.0
     b.fz, b.kappa, b.alpha, b.gamma, b.vcx = fz, kappa, alpha, gamma, vcx
@@ -400,14 +404,17 @@ def _basic(c, v52, fz, kappa, alpha, gamma, pressure, speed) -> _Basic:
     b.gstar = gamma
     # 5.2 camber per channel (MF-Tyre 5.2: gamma_x,y,z = gamma * LGAX,Y,Z)
     b.gx, b.gy, b.gz = gamma * c["LGAX"], gamma * c["LGAY"], gamma * c["LGAZ"]
-    vsx = -kappa * vcx                                                 # (4.E5)
     vsy = np.tan(alpha) * vcx                                          # (2.12), Vcy = Vsy
-    vs = np.sqrt(vsx ** 2 + vsy ** 2)
     vc = np.sqrt(vcx ** 2 + vsy ** 2)
     b.cos_ap = vcx / (vc + EPSILON)                                    # (4.E6), (4.E6a)
     v0 = c["LONGVL"]
-    b.lmux_s = c["LMUX"] / (1.0 + c["LMUV"] * vs / v0)                 # (4.E7)
-    b.lmuy_s = c["LMUY"] / (1.0 + c["LMUV"] * vs / v0)                 # (4.E7)
+    if np.all(np.asarray(c["LMUV"]) == 0):                             # no speed decay: (4.E7) is LMU
+        b.lmux_s, b.lmuy_s = c["LMUX"], c["LMUY"]
+    else:
+        vsx = -kappa * vcx                                             # (4.E5)
+        vs = np.sqrt(vsx ** 2 + vsy ** 2)
+        b.lmux_s = c["LMUX"] / (1.0 + c["LMUV"] * vs / v0)             # (4.E7)
+        b.lmuy_s = c["LMUY"] / (1.0 + c["LMUV"] * vs / v0)             # (4.E7)
     b.lmux_p = A_MU * b.lmux_s / (1.0 + (A_MU - 1.0) * b.lmux_s)       # (4.E8)
     b.lmuy_p = A_MU * b.lmuy_s / (1.0 + (A_MU - 1.0) * b.lmuy_s)       # (4.E8)
     return b
