@@ -360,6 +360,8 @@ def _run_by(args, out: Path) -> int:
         r = Report(f"PAC89 fit per {ch} level — {Path(args.data).name}",
                    f"tyrefit fit {args.data} --by {ch}: one tyre per {ch} level")
         r.table(table, digits=4)
+        r.figure(_by_figure(table, ch), f"Lateral RMSE (bars) and within-sweep noise floor (line) of each {ch} "
+                                        "level's tyre")
         for lv, tag, tir, js, runs, result, extras in fits:
             _report(result, extras, args, tir, rdir=rdir / tag,
                     title=f"PAC89 fit — {Path(args.data).name}, {format_condition(ch, float(lv))}")
@@ -379,3 +381,24 @@ def _run_by(args, out: Path) -> int:
 
 
 _UNIT = {"pressure": (1e-3, "kPa"), "camber": (180 / math.pi, "deg"), "speed": (3.6, "km/h")}
+
+
+def _by_figure(table, channel: str, ax=None):
+    """Bar chart of RMSE per level with the noise floor; returns the Figure."""
+    from matplotlib.figure import Figure
+
+    if ax is None:
+        ax = Figure(figsize=(1.6 * len(table) + 2.4, 3.2)).subplots()
+    rm = [c for c in table.columns if c.startswith("RMSE [")][0]
+    nf = [c for c in table.columns if c.startswith("noise floor [")][0]
+    x = range(len(table))
+    ax.bar(x, table[rm], color="#4c78a8", label="RMSE")
+    ax.plot(x, table[nf], "k_", ms=30, mew=2, label="noise floor (within-sweep)")
+    ax.set_xticks(list(x), [str(v).replace(f"{channel} ", "") for v in table["level"]])
+    ax.set_xlabel(channel)
+    ax.set_ylabel(rm)
+    ax.set_title(f"PAC89, one tyre per {channel} level: lateral RMSE against the noise floor", fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(axis="y", alpha=0.3)
+    ax.figure.tight_layout()
+    return ax.figure
