@@ -263,3 +263,44 @@ def test_signature_legend_labels_are_rounded():
     assert _group_label("fz", 1111.2, [1111.2]) == "1.11 kN"
     assert _group_label("pressure", 200.4e3, [200.4e3, 200.9e3]) != _group_label("pressure", 200.9e3,
                                                                                    [200.4e3, 200.9e3])
+
+
+def test_fit_warnings_reach_the_tir_and_the_chrono_json(fsae45, tmp_path):
+    """A fit that stays above its noise floor and merges pressures says so in the .tir header and the JSON."""
+    import json
+
+    from tyrefit.io.tir import read_tyre
+
+    from tyrefit.tyres.size import complete_design, parse_size
+
+    _, _, res = fsae45
+    assert any("x the within-sweep noise floor" in w for w in res.warnings)  # 3 pressures in one PAC89 tyre
+    complete_design(res.tyre, parse_size("205/55R16"), 1500.0)  # design data Chrono's JSON needs
+    res.tyre.to_tir(tmp_path / "t.tir")
+    res.tyre.to_chrono_json(tmp_path / "t.json")
+    header = read_tyre(tmp_path / "t.tir").header
+    notes = json.loads((tmp_path / "t.json").read_text())["Notes"]
+    for w in res.warnings:
+        assert any(w in h for h in header) and any(w in n for n in notes)
+    d = res.to_dict()
+    assert d["warnings"] == res.warnings and d["stats"]["lateral"]["noise_floor"] == res.noise_floor
+
+
+def test_a_coefficient_at_its_bound_is_flagged_not_fitted():
+    """Slip-ratio sweeps with no peak drive the shape factor b0 to its bound: status and warning say so."""
+    from tyrefit.fitting import fit_pac89
+    from tyrefit.fitting.result import _at_bound
+
+    assert _at_bound(0.3, 0.3, 2.0) == "lower" and _at_bound(1.0, 0.3, 2.0) is None
+    rng = np.random.default_rng(2)
+    rows = []
+    for run, fz in enumerate((2000.0, 4000.0, 6000.0)):
+        s = np.linspace(-0.3, 0.3, 80)
+        fx = 25.0 * fz * s + rng.normal(0, 15, s.size)  # a straight line: no peak, no curvature
+        rows.append(pd.DataFrame({"run": run, "fz": fz, "slip_ratio": s, "fx": fx}))
+    res = fit_pac89(pd.concat(rows, ignore_index=True))
+    flagged = res.coefficients[res.coefficients["status"].str.startswith("at its")]
+    assert "b0" in set(flagged["name"])
+    for r in flagged.itertuples():
+        assert any(w.startswith(f"{r.part}: {r.name} = ") and "bound" in w for w in res.warnings)
+    assert not res.coefficients[res.coefficients["status"] == "fitted"]["name"].isin(flagged["name"]).any()

@@ -164,7 +164,7 @@ def chrono_dict(tyre: Pac89Tyre, mass: float | None = None, inertia=None) -> dic
     design["Lateral Stiffness"] = float(tyre.lateral_stiffness)
     design["Rolling Resistance"] = float(tyre.rolling_resistance)
     coeffs, absent = coefficients_for_export(tyre)
-    notes = [str(h) for h in tyre.header if "ESTIMATED" in str(h) or "NOT FITTED" in str(h)]
+    notes = [str(h) for h in tyre.header if any(k in str(h) for k in ("ESTIMATED", "NOT FITTED", "WARNING"))]
     for part in absent:
         note = (f"{part} part NOT FITTED (no data): neutral coefficients, zero force (C = 1, D = Fz, slip "
                 "stiffness 0)")
