@@ -304,3 +304,16 @@ def test_a_coefficient_at_its_bound_is_flagged_not_fitted():
     for r in flagged.itertuples():
         assert any(w.startswith(f"{r.part}: {r.name} = ") and "bound" in w for w in res.warnings)
     assert not res.coefficients[res.coefficients["status"] == "fitted"]["name"].isin(flagged["name"]).any()
+
+
+def test_compare_reports_fits_rmse_and_noise_floor(fsae45):
+    """compare --data scores a fitted tyre with the RMSE and noise floor that fit reported for it."""
+    from tyrefit.compare.tyres import compare_tyres
+    from tyrefit.io.readers import Dataset
+
+    df, _, res = fsae45
+    data = Dataset(df[["run", "fz", "fy", "mz", "slip_angle", "camber", "pressure", "speed"]], kind="slip_angle",
+                   source="fsae45")
+    s = compare_tyres(res.tyre, res.tyre, data).summary()
+    assert s["rmse_N"][0] == pytest.approx(res.stats["lateral"]["rmse"], rel=1e-9)
+    assert s["noise_floor_N"] == pytest.approx(res.stats["lateral"]["noise_floor"], rel=1e-12)

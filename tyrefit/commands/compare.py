@@ -77,6 +77,9 @@ def run(args) -> int:
     s = cmp.summary()
     print(f"{na} vs {nb}: {len(cmp.loads)} loads; worst mean |dmu|/mu_peak {100 * s['worst_mean_abs_dmu_over_peak']:.2f} % "
           f"(agreement >= {s['min_agreement_pct']:.1f} %)")
+    if "rmse_N" in s:
+        print(f"  vs data: lateral RMSE {s['rmse_N'][0]:.4g} N / {s['rmse_N'][1]:.4g} N, within-sweep noise floor "
+              f"{s['noise_floor_N']:.4g} N (the definitions of fit and diagnose)")
     for lc in cmp.loads:
         line = (f"  {lc.conditions}: C_alpha {lc.cornering_stiffness[0]:.4g} / {lc.cornering_stiffness[1]:.4g} N/rad, "
                 f"peak mu {lc.peak_text(0)} / {lc.peak_text(1)}, mean |dmu|/mu_peak "

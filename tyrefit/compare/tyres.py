@@ -250,6 +250,15 @@ class Comparison:
                "min_agreement_pct": min(lc.agreement_pct for lc in self.loads)}
         if d is not None:
             out["worst_vs_data"] = [float(d[:, 0].max()), float(d[:, 1].max())]
+            if self._data is not None:
+                sub = self._data[self._data["run"].isin([lc.run for lc in self.loads])]
+                n = np.array([lc.data["points"] for lc in self.loads], float)
+                r = np.array([lc.data["rmse_N"] for lc in self.loads], float)
+                out["rmse_N"] = [float(np.sqrt(np.sum(n * r[:, k] ** 2) / n.sum())) for k in (0, 1)]
+                from ..fitting.result import noise_floor_of
+
+                out["noise_floor_N"] = noise_floor_of(sub["slip_angle"].to_numpy(float), sub["fy"].to_numpy(float),
+                                                      sub["run"].to_numpy(), sub["fz"].to_numpy(float))[0]
             out["min_agreement_with_data_pct"] = [float(100 * (1 - d[:, 0].max())), float(100 * (1 - d[:, 1].max()))]
         return out
 
@@ -265,7 +274,11 @@ class Comparison:
                     "mean_abs_dmu_over_peak": "mean |mu_a - mu_b| over the slip range / peak mu_a in the range",
                     "mean_abs_dmu_over_peak_vs_data": "mean |mu_model - mu_data| over 0.5 deg bins / peak |mu| "
                                                       "of the data in the range, for [a, b]",
-                    "agreement_pct": "100 (1 - mean_abs_dmu_over_peak)"},
+                    "agreement_pct": "100 (1 - mean_abs_dmu_over_peak)",
+                    "rmse_N": "root mean square of Fy_model - Fy_data over every point of the sweep (summary: of "
+                              "all sweeps), each model at the point's load and camber - as fit and diagnose",
+                    "noise_floor_N": "within-sweep noise floor, the one definition of fit and diagnose "
+                                     "(tyrefit.diagnose.stats.noise_floor)"},
                 "summary": self.summary(), "notes": list(self.notes)}
 
     def table(self) -> pd.DataFrame:
@@ -397,7 +410,10 @@ class Comparison:
         if self.data_source is not None:
             r.p(f"Against the data ({self.data_source}): worst load {100 * s['worst_vs_data'][0]:.2f} % for {a}, "
                 f"{100 * s['worst_vs_data'][1]:.2f} % for {b}: agreement {s['min_agreement_with_data_pct'][0]:.1f} % "
-                f"and {s['min_agreement_with_data_pct'][1]:.1f} %.")
+                f"and {s['min_agreement_with_data_pct'][1]:.1f} %."
+                + (f" Lateral RMSE over every point, each model at the point's load and camber: "
+                   f"{s['rmse_N'][0]:.4g} N for {a}, {s['rmse_N'][1]:.4g} N for {b}; within-sweep noise floor "
+                   f"{s['noise_floor_N']:.4g} N (the definitions of fit and diagnose)." if "rmse_N" in s else ""))
         r.table(self.table(), digits=4)
         fig_axes = self.plot_overlay()
         r.figure(fig_axes[0].figure, f"Friction coefficient against slip angle: {a} (solid), {b} (dashed), each "
@@ -512,14 +528,20 @@ def compare_tyres(tyre_a, tyre_b, data=None, *, loads=None, names: tuple[str, st
             curve = binned_curve(g, slip_range_deg)
             pk = float(np.abs(curve["mu"]).max())
             cam = curve["camber"].to_numpy() if "camber" in curve else 0.0
-            vs = []
+            vs, rmse = [], []
+            pcam = g["camber"].to_numpy(float) if "camber" in g else 0.0
             for t in (tyre_a, tyre_b):
                 mm = _mu(t, curve["fz"].to_numpy(), curve["slip_angle"].to_numpy(), cam, ev["pressure"], ev["speed"])
                 vs.append(float(np.mean(np.abs(mm - curve["mu"].to_numpy())) / pk))
+                # RMSE as fit and diagnose define it: every point, at its own load and camber [N]
+                fy = lateral_force(t, g["fz"].to_numpy(float), g["slip_angle"].to_numpy(float), pcam,
+                                   ev["pressure"], ev["speed"])
+                rmse.append(float(np.sqrt(np.mean((fy - g["fy"].to_numpy(float)) ** 2))))
             ddict = {"cornering_stiffness": dm["cornering_stiffness"], "peak_mu": dm["peak_mu"],
                      "slip_at_peak_deg": dm["slip_at_peak_deg"], "peak_at_range_edge": dm["at_edge"],
                      "mean_abs_dmu_over_peak_vs_data": vs, "agreement_with_data_pct": [100 * (1 - v) for v in vs],
-                     "bins": int(len(curve)), "points": int(len(g))}
+                     "bins": int(len(curve)), "points": int(len(g)), "rmse_N": rmse,
+                     "noise_floor_N": _sweep_floor(g)}
         out.append(LoadComparison(fz=fz, cornering_stiffness=(ma["cornering_stiffness"], mb["cornering_stiffness"]),
                                   peak_mu=(ma["peak_mu"], mb["peak_mu"]),
                                   slip_at_peak_deg=(ma["slip_at_peak_deg"], mb["slip_at_peak_deg"]),
@@ -534,6 +556,15 @@ def compare_tyres(tyre_a, tyre_b, data=None, *, loads=None, names: tuple[str, st
                          f"loads (e.g. {miss[0].conditions}: still rising at {miss[0].search_deg:.1f} deg); "
                          "peak_mu and slip_at_peak_deg are left empty there")
     return Comparison(out, names, tuple(slip_range_deg), source, notes, (tyre_a, tyre_b), df)
+
+
+def _sweep_floor(g: pd.DataFrame) -> float:
+    """The within-sweep noise floor [N] of one sweep (the definition of fit and diagnose)."""
+    from ..fitting.result import noise_floor_of
+
+    f, _ = noise_floor_of(g["slip_angle"].to_numpy(float), g["fy"].to_numpy(float), np.zeros(len(g), int),
+                          g["fz"].to_numpy(float))
+    return float(f)
 
 
 def _default_reach(ta, tb) -> float | None:

@@ -41,7 +41,7 @@ import pandas as pd
 from .. import __version__
 from ..tyres.pac89 import Pac89Tyre
 
-__all__ = ["FitResult"]
+__all__ = ["FitResult", "noise_floor_of", "NOISE_FLOOR_DEFINITION"]
 
 _RAD_TO_DEG = 180.0 / math.pi
 _LABEL = {"lateral": ("fy", "Fy", "N", "slip_angle", "slip angle [deg]", _RAD_TO_DEG),
@@ -610,15 +610,38 @@ def within_sweep_noise(d, part: str) -> tuple[float, pd.Series]:
     force or moment, measured load), so ``fit`` and ``diagnose`` report the
     same number for the same sweeps.
     """
-    from ..diagnose.stats import noise_floor as _nf
+    return noise_floor_of(d.slip, d.y, d.run, d.fz, part)
 
-    runs = np.asarray(d.run)
-    # diagnose's sampling (tyrefit.diagnose.data.prepare): each sweep thinned evenly along the record to at
-    # most max_points_per_sweep points, so both commands estimate the floor from the same points
+
+def noise_floor_of(slip, y, run, fz, part: str = "lateral") -> tuple[float, pd.Series]:
+    """The one within-sweep noise floor [N or N*m] of ``fit``, ``diagnose`` and ``compare``.
+
+    Parameters
+    ----------
+    slip : array_like
+        slip angle [rad] (``lateral``, ``aligning``) or slip ratio [-] (``longitudinal``).
+    y : array_like
+        force [N] or moment [N*m].
+    run : array_like
+        sweep id of each point.
+    fz : array_like
+        measured load [N].
+    part : str
+        sets the spline's knot spacing (1.5 deg of slip angle, 0.03 slip ratio).
+
+    Returns
+    -------
+    (float, Series)
+        pooled floor and per-sweep values (index: run).
+    """
     import inspect
 
     from ..diagnose.data import prepare
+    from ..diagnose.stats import noise_floor as _nf
 
+    runs = np.asarray(run)
+    # diagnose's sampling (tyrefit.diagnose.data.prepare): each sweep thinned evenly along the record to at
+    # most max_points_per_sweep points, so both commands estimate the floor from the same points
     npts = int(inspect.signature(prepare).parameters["max_points_per_sweep"].default)
     take = []
     for r in np.unique(runs):
@@ -628,8 +651,8 @@ def within_sweep_noise(d, part: str) -> tuple[float, pd.Series]:
         take.append(i)
     take = np.sort(np.concatenate(take)) if take else np.zeros(0, int)
     uniq, idx = np.unique(runs[take], return_inverse=True)
-    floor, per = _nf(np.asarray(d.slip, float)[take], np.asarray(d.y, float)[take], idx,
-                     spacing_deg=_FLOOR_SPACING[part], fz=np.asarray(d.fz, float)[take])
+    floor, per = _nf(np.asarray(slip, float)[take], np.asarray(y, float)[take], idx,
+                     spacing_deg=_FLOOR_SPACING[part], fz=np.asarray(fz, float)[take])
     return float(floor), pd.Series(per, index=uniq, dtype=float)
 
 
