@@ -317,3 +317,17 @@ def test_compare_reports_fits_rmse_and_noise_floor(fsae45):
     s = compare_tyres(res.tyre, res.tyre, data).summary()
     assert s["rmse_N"][0] == pytest.approx(res.stats["lateral"]["rmse"], rel=1e-9)
     assert s["noise_floor_N"] == pytest.approx(res.stats["lateral"]["noise_floor"], rel=1e-12)
+
+
+def test_diagnose_views_show_every_pressure_and_camber(fsae45):
+    """The diagnose report's panels: every (camber, pressure) pair, titled in display units."""
+    from tyrefit.diagnose import views
+    from tyrefit.diagnose.data import prepare
+
+    df, _, _ = fsae45
+    sd = prepare(df[["run", "fz", "fy", "slip_angle", "camber", "pressure", "speed"]])
+    fc = views.facets(sd)
+    titles = [views._facet_title(sd, c, p) for c, p in fc]
+    got = [re.fullmatch(r"camber (-?\d+\.\d)°, pressure (\d+) kPa", t).groups() for t in titles]
+    assert [c for c, _ in got] == ["0.0", "2.0", "4.0"] * 3
+    np.testing.assert_allclose([float(p) for _, p in got], np.repeat([70.2, 83.5, 98.0], 3), atol=1.0)

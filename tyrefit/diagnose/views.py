@@ -106,9 +106,12 @@ def _facet_mask(data, c, p):
 
 
 def _facet_title(data, c, p):
-    t = f"camber {np.degrees(data.levels['camber'][c]):.1f} deg"
+    from ..io.facets import _decimals, format_condition  # the shared titles in display units ('camber 0.0°')
+
+    t = format_condition("camber", float(data.levels["camber"][c]), _decimals("camber", data.levels["camber"]))
     if p is not None:
-        t += f", {data.levels['pressure'][p] / 1e3:.0f} kPa"
+        t += ", " + format_condition("pressure", float(data.levels["pressure"][p]),
+                                     _decimals("pressure", data.levels["pressure"]))
     return t
 
 
