@@ -231,6 +231,9 @@ def run(args) -> int:
     check_outputs(args)
     datas = list(args.data) if isinstance(args.data, (list, tuple)) else [args.data]
     if (getattr(args, "model", None) or "pac89") != "pac89":
+        if getattr(args, "by", None):
+            raise DataError(f"--by {args.by} writes one PAC89 tyre per level; --model {args.model} carries "
+                            "pressure, camber and speed in one tyre - drop --by")
         from .fit_mf import run_mf
 
         return run_mf(args, out, datas)
@@ -338,6 +341,11 @@ def _run_by(args, out: Path) -> int:
         result.tyre.header.insert(1, f"one tyre per {ch} level (tyrefit fit --by {ch}): "
                                      f"{format_condition(ch, float(lv))}, {len(runs)} sweeps")
         fits.append((lv, tag, tir, js, runs, result, extras))
+    if json_path:
+        from ..io.chrono_json import chrono_dict
+
+        for *_, result, extras in fits:
+            chrono_dict(result.tyre)  # refuses, before anything is written, a JSON Chrono could not load
     rows = []
     for lv, tag, tir, js, runs, result, extras in fits:
         result.tyre.to_tir(tir, force=args.force)
