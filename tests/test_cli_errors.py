@@ -126,7 +126,7 @@ def test_json_output_may_not_overwrite_the_input(tmp_path, capsys):
     p.write_text(GOOD_HEADER + "\n1,-80,3000\n")
     before = p.read_text()
     assert main(["inspect", str(p), "--json", str(p), "--force"]) == 2
-    assert "is the file being inspected" in one_line_error(capsys)
+    assert "is an input of this run" in one_line_error(capsys)
     assert p.read_text() == before
 
 

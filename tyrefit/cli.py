@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
+import os
 import sys
 from collections.abc import Sequence
 
@@ -28,10 +30,40 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
+#: numeric flags of every command: attribute -> (low, high, low excluded, what is accepted).  Checked
+#: after parsing (finite, in range), so a bad value is one line and exit code 2 like any bad input.
+NUMERIC_FLAGS: dict[str, tuple[float | None, float | None, bool, str]] = {
+    "rated_load": (0.0, 200e3, True, "the rated load must be a positive force in N, at most 200 kN (e.g. 6031)"),
+    "road_mu": (0.05, 1.5, False, "the road adhesion coefficient must be between 0.05 and 1.5"),
+    "camber": (-10.0, 10.0, False, "the brush model's camber range is -10 to 10 deg"),
+    "seed": (0, 2**32 - 1, False, "the seed must be an integer from 0 to 2**32 - 1"),
+    "workers": (1, 1024, False, "need at least 1 worker process (at most 1024)"),
+    "max_size": (0.0, 1e6, True, "the input size limit must be a positive number of MB"),
+}
+
+
+def validate_numbers(args: argparse.Namespace) -> None:
+    """Refuse NaN, inf and out-of-range values of :data:`NUMERIC_FLAGS` (one-line ValueRangeError)."""
+    from .errors import ValueRangeError
+
+    for name, (lo, hi, lo_open, text) in NUMERIC_FLAGS.items():
+        v = getattr(args, name, None)
+        if v is None or isinstance(v, bool) or not isinstance(v, (int, float)):
+            continue
+        bad = not math.isfinite(v) or (lo is not None and (v <= lo if lo_open else v < lo)) \
+            or (hi is not None and v > hi)
+        if bad:
+            raise ValueRangeError(f"--{name.replace('_', '-')} {v:g}: {text}")
+
+
 def _common() -> argparse.ArgumentParser:
+    from .io.inputs import DEFAULT_MAX_MB
+
     p = argparse.ArgumentParser(add_help=False)
     p.add_argument("--force", action="store_true", help="replace existing outputs")
     p.add_argument("--debug", action="store_true", help="show tracebacks on errors")
+    p.add_argument("--max-size", type=float, default=None, metavar="MB",
+                   help=f"largest input file read, in MB (default {DEFAULT_MAX_MB:g})")
     return p
 
 
@@ -198,19 +230,131 @@ def _version() -> str:
     return f"tyrefit {__version__}"
 
 
+#: argument attributes that name input files (any command; lists allowed)
+INPUT_ATTRS = ("data", "patch", "rig", "vertical", "tyre_a", "tyre_b", "front", "rear", "file", "static",
+               "dynamic", "tyre", "points", "source")
+#: commands whose ``--out`` is a folder: (command, subcommand) -> True when it is a report-like folder
+_OUT_FOLDERS = {"demo": True, "batch": False}
+
+
+def _paths(v) -> list[str]:
+    if v is None:
+        return []
+    return [str(x) for x in v] if isinstance(v, (list, tuple)) else [str(v)]
+
+
+def _io_plan(args: argparse.Namespace) -> tuple[list[str], list[str], list[str]]:
+    """(input files, output files, report folders) named by the arguments."""
+    from .io.inputs import check_input
+
+    inputs: list[str] = []
+    for name in INPUT_ATTRS:
+        for v in _paths(getattr(args, name, None)):
+            if name == "source":  # batch: a folder, a glob or a file; the batch checks each file it finds
+                if os.path.exists(v):
+                    check_input(v, "a data file", folder_ok=True)
+                continue
+            check_input(v, "a data or tyre file")
+            inputs.append(v)
+    files, folders = [], []
+    out_folder = _OUT_FOLDERS.get(args.command)
+    for name in ("out", "json"):
+        for v in _paths(getattr(args, name, None)):
+            if name == "out" and out_folder is not None:
+                if out_folder:
+                    folders.append(v)
+            else:
+                files.append(v)
+    folders += _paths(getattr(args, "report", None))
+    return inputs, files, folders
+
+
+def _preflight(args: argparse.Namespace, inputs, files, folders) -> None:
+    """Refuse bad outputs before any work: inputs as outputs, duplicates, folders, existing files."""
+    from .errors import OutputError
+    from .io.outputs import check_output, check_report_dir, current_run
+
+    run = current_run()
+    force = bool(getattr(args, "force", False))
+    seen: dict[str, str] = {}
+    for v in files + folders:
+        r = os.path.realpath(v)
+        if r in seen:
+            raise OutputError(f"{v}: named twice as an output (also {seen[r]}); give each output its own name")
+        seen[r] = v
+    for v in files:
+        check_output(v, force)
+        parent = os.path.dirname(os.path.abspath(v))
+        if os.path.isdir(parent) and not os.access(parent, os.W_OK):
+            raise OutputError(f"{v}: cannot write in {parent} (read-only or permission denied)")
+    for v in folders:
+        run.check_not_input(v)
+        check_report_dir(v, force)
+        for r in (os.path.realpath(i) for i in inputs):
+            if os.path.realpath(v) == r:
+                raise OutputError(f"{v}: is an input of this run; choose another output folder")
+    if args.command == "batch":
+        out = getattr(args, "out", None)
+        if out and os.path.exists(out) and not os.path.isdir(out):
+            raise OutputError(f"{out}: exists and is not a folder; --out needs a folder for the .tir files")
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .io.inputs import set_max_size_mb
+    from .io.outputs import output_run
+
+    validate_numbers(args)
+    set_max_size_mb(getattr(args, "max_size", None))
+    inputs, files, folders = _io_plan(args)
+    module = importlib.import_module(f"tyrefit.commands.{_module_for(args)}")
+    if args.command == "batch":  # a batch commits each tyre as it finishes (tyrefit.fitting.batch)
+        with output_run(inputs, folders, force=getattr(args, "force", False)):
+            _preflight(args, inputs, files, folders)
+        return int(module.run(args) or 0)
+    code = 0
+    with output_run(inputs, folders, force=getattr(args, "force", False)):
+        _preflight(args, inputs, files, folders)
+        code = int(module.run(args) or 0)
+        if code not in (0, 1):  # a command that reports failure by its exit code writes nothing
+            raise _Abort(code)
+    return code
+
+
+class _Abort(Exception):
+    def __init__(self, code: int):
+        super().__init__(code)
+        self.code = code
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     parser = build_parser()
     args = parser.parse_args(argv)
     debug = getattr(args, "debug", False)
     try:
-        module = importlib.import_module(f"tyrefit.commands.{_module_for(args)}")
-        return int(module.run(args) or 0)
+        return _run(args)
+    except _Abort as exc:
+        return exc.code
     except TyrefitError as exc:
         if debug:
             raise
         msg = " ".join(str(exc).split())  # one line
         print(f"tyrefit {args.command}: error: {msg}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # an output or input the operating system refused
+        if debug:
+            raise
+        from .io.outputs import os_error_message
+
+        what = "cannot read or write"
+        print(f"tyrefit {args.command}: error: {' '.join(os_error_message(exc, None, what).split())}",
+              file=sys.stderr)
+        return 2
+    except MemoryError:
+        if debug:
+            raise
+        print(f"tyrefit {args.command}: error: out of memory; the input is too large for this machine "
+              "(see --max-size)", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # pragma: no cover
         print("tyrefit: interrupted", file=sys.stderr)

@@ -23,6 +23,8 @@ __all__ = [
     "UnitError",
     "ValueRangeError",
     "OutputExistsError",
+    "OutputError",
+    "InputError",
     "FitError",
     "ModelError",
     "close_matches",
@@ -55,6 +57,14 @@ class ValueRangeError(DataError):
 
 class OutputExistsError(TyrefitError, FileExistsError):
     """An output exists and ``--force`` was not given."""
+
+
+class OutputError(TyrefitError, OSError):
+    """An output that cannot be written: an input of the run, a folder, a read-only place, a full disk."""
+
+
+class InputError(FormatError):
+    """An input that is not a regular file tyrefit may read (a FIFO, a device, too large)."""
 
 
 class FitError(TyrefitError, RuntimeError):

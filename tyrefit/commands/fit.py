@@ -216,7 +216,6 @@ def _report(result, extras, args, out: Path, rdir: Path | None = None, title: st
             extras["static"].report_section(r, model=result.tyre)
         except TypeError:
             extras["static"].report_section(r)
-    rdir.mkdir(parents=True, exist_ok=True)
     from ..io.outputs import write_text
 
     write_text(rdir / "sweeps.csv", result.sweeps_table().to_csv(index=False), force=True)

@@ -188,14 +188,9 @@ class Dataset:
 # --------------------------------------------------------------------------- sniffing
 
 def _read_bytes(p: Path) -> bytes:
-    if not p.exists():
-        raise FormatError(f"{p}: no such file")
-    if p.is_dir():
-        raise FormatError(f"{p}: is a folder; give a data file (CSV, TYDEX .tdx or FSAE TTC .dat)")
-    try:
-        return p.read_bytes()
-    except OSError as exc:
-        raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
+    from .inputs import read_input_bytes
+
+    return read_input_bytes(p, "a data file (CSV, TYDEX .tdx or FSAE TTC .dat)")
 
 
 _MAGIC = {b"PK\x03\x04": "a ZIP/Excel workbook; save it as CSV",

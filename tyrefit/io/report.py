@@ -158,6 +158,4 @@ class Report:
         """Write ``directory/name`` atomically and return its path."""
         from .outputs import write_text
 
-        d = Path(directory)
-        d.mkdir(parents=True, exist_ok=True)
-        return write_text(d / name, self.html(), force=force)
+        return write_text(Path(directory) / name, self.html(), force=force)  # creates the folder
