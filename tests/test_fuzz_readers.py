@@ -85,7 +85,7 @@ def _ttc(sweeps: int = 1) -> bytes:
     for fz in (-1100.0, -660.0):
         for _ in range(sweeps):
             for sa in sa_cycle:
-                fy = -fz * 2.4 * np.sin(1.4 * np.arctan(0.25 * sa))
+                fy = fz * 2.4 * np.sin(1.4 * np.arctan(0.25 * sa))  # SAE: positive SA, negative FY
                 lines.append("\t".join(f"{v:.3f}" for v in (t, 40.0, sa, 0.0, 83.0, 0.0, fy, fz, 0.0, 0.0)))
                 t += 0.05
     return ("\n".join(lines) + "\n").encode()

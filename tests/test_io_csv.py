@@ -148,7 +148,7 @@ def test_utqg_and_emission_tables(tmp_path):
 
 def test_given_run_column_and_delimiters(tmp_path):
     text = "run\tslip_angle [rad]\tfy [N]\tfz [N]\n" + "".join(
-        f"{r}\t{a / 100}\t{-a * 100}\t{3000 + 1000 * r}\n" for r in (7, 9) for a in range(5))
+        f"{r}\t{a / 100}\t{-a * 1000}\t{3000 + 1000 * r}\n" for r in (7, 9) for a in range(5))
     ds = read_data(write(tmp_path, "t.tsv", text))
     assert ds.meta["runs"] == "given in the file"
     assert set(ds.df["run"]) == {7, 9}

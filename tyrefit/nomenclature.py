@@ -13,7 +13,6 @@ multiplied by standard gravity g = 9.80665 m/s^2 to give newtons.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
 from .errors import UnitError, close_matches
@@ -147,7 +146,25 @@ ALIASES: dict[str, str] = {
     "contact_area": "area", "tw": "treadwear", "utqg": "treadwear",
 }
 
-_HEADER = re.compile(r"^\s*(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?\s*$")
+def _split_header(header: str) -> tuple[str, str | None] | None:
+    """``"name [unit]"`` -> (name, unit); ``"name"`` -> (name, None); None if the brackets are malformed.
+
+    Linear in the length of the header: plain string scans, no regular
+    expression (a backtracking pattern took minutes on a header cell holding
+    a long run of spaces).
+    """
+    s = header.strip()
+    if s.endswith("]"):
+        i = s.rfind("[")
+        if i < 0:
+            return None
+        name, unit = s[:i], s[i + 1:-1]
+        if "[" in unit or "]" in unit or "[" in name or "]" in name:
+            return None
+        return name.strip(), unit
+    if "[" in s or "]" in s:
+        return None
+    return s, None
 
 
 def canonical_unit(unit: str) -> str:
@@ -175,12 +192,11 @@ def parse_header(header: str) -> tuple[str, str | None]:
     Foreign channel names are mapped through :data:`ALIASES`; an unknown name is
     returned unchanged (readers decide whether it matters).
     """
-    m = _HEADER.match(str(header))
+    m = _split_header(str(header))
     if m is None:
         return str(header).strip(), None
-    name = m.group("name").strip()
-    unit = m.group("unit")
-    key = name.lower()
+    name, unit = m
+    key = " ".join(name.lower().split())
     name = ALIASES.get(key, key.replace(" ", "_"))
     return name, (unit.strip() if unit is not None else None)
 

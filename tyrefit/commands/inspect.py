@@ -26,7 +26,7 @@ import pandas as pd
 
 from ..errors import FormatError, ModelError
 from ..io.outputs import check_output, write_text
-from ..io.readers import (KINDS, Dataset, condition_levels, lateral_slope, read_data,
+from ..io.readers import (KINDS, Dataset, condition_levels, lateral_slope, plausibility_problems, read_data,
                           sniff_format)
 
 __all__ = ["run", "inspect_file", "inspect_data", "inspect_tyre", "format_summary"]
@@ -38,7 +38,7 @@ def inspect_file(path: str | Path, convention: str = "iso") -> dict[str, Any]:
     fmt = sniff_format(p)
     if fmt in ("tir", "chrono_json"):
         return inspect_tyre(p, fmt)
-    return inspect_data(read_data(p, convention=convention))
+    return inspect_data(read_data(p, convention=convention, checks=False))
 
 
 def inspect_data(ds: Dataset) -> dict[str, Any]:
@@ -74,6 +74,7 @@ def inspect_data(ds: Dataset) -> dict[str, Any]:
     for key in ("info", "header", "constants", "segmentation", "phase"):
         if key in ds.meta:
             out[key] = ds.meta[key]
+    out["problems"] = plausibility_problems(ds)  # what fit/diagnose would refuse, said instead of refused
     return out
 
 
@@ -252,6 +253,8 @@ def format_summary(s: dict[str, Any]) -> str:
             lines.append("dropped: " + "; ".join(f"{v} {k}" for k, v in seg["dropped"].items()))
     if "info" in s and s["info"]:
         lines.append(f"info: {s['info']}")
+    for problem in s.get("problems", []):
+        lines.append(f"PROBLEM (fit and diagnose refuse this file): {problem}")
     return "\n".join(lines)
 
 

@@ -87,7 +87,7 @@ def check_input(path: str | os.PathLike, what: str = "a data file", folder_ok: b
         raise InputError(f"{p}: is {kind}, not a regular file; tyrefit reads {what} from a regular file")
     limit = _MAX_MB * 1e6
     if st.st_size > limit:
-        raise InputError(f"{p}: {st.st_size / 1e6:.1f} MB is over the input size limit of {_MAX_MB:g} MB; "
+        raise InputError(f"{p}: {st.st_size / 1e6:.3g} MB is over the input size limit of {_MAX_MB:g} MB; "
                          "pass --max-size MB to raise it")
     if not os.access(p, os.R_OK):
         raise InputError(f"{p}: cannot read (permission denied)")

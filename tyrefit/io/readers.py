@@ -71,6 +71,8 @@ __all__ = [
     "LIMITS",
     "SAE_FLIPPED",
     "sniff_format",
+    "check_plausible",
+    "plausibility_problems",
     "condition_levels",
     "lateral_slope",
 ]
@@ -259,7 +261,8 @@ def _looks_ttc(head: str) -> bool:
 
 # --------------------------------------------------------------------------- public reader
 
-def read_data(path: str | os.PathLike, convention: str = "iso", kind: str | None = None) -> Dataset:
+def read_data(path: str | os.PathLike, convention: str = "iso", kind: str | None = None,
+              checks: bool = True) -> Dataset:
     """Read a rig data file into a validated :class:`Dataset`.
 
     Parameters
@@ -271,6 +274,9 @@ def read_data(path: str | os.PathLike, convention: str = "iso", kind: str | None
         (``fz, fy, mz, slip_angle, lateral_displacement``) to give ISO-W.
     kind : str, optional
         one of :data:`KINDS`; detected from the columns when omitted.
+    checks : bool
+        run :func:`check_plausible` on sweep data (default); ``False`` leaves
+        it to the caller (``inspect`` lists the problems instead).
 
     Returns
     -------
@@ -308,7 +314,10 @@ def read_data(path: str | os.PathLike, convention: str = "iso", kind: str | None
         table = parse_ttc(p, text)
     else:
         table = parse_csv(p, text)
-    return _finish(table, p, convention, kind)
+    ds = _finish(table, p, convention, kind)
+    if checks and ds.kind in FIT_KINDS:
+        check_plausible(ds, {c: v["header"] for c, v in ds.meta["columns"].items()})
+    return ds
 
 
 def _close(word, choices) -> str:
@@ -527,6 +536,136 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     if df.empty:
         raise DataError(f"{p}: no data rows left to use")
     return Dataset(df=df, kind=kind, source=str(p), convention=convention, meta=meta)
+
+
+# --------------------------------------------------------------------------- plausibility of sweep data
+
+#: implied friction coefficient |F|max / Fz of a sweep: above the first is not a tyre on a road (loads in kN
+#: labelled [N]?); a whole file below the second is forces in kN labelled [N] (or a stuck channel)
+MU_LIMITS = (0.05, 4.0)
+#: a file with more distinct load levels than this is a ramp, not sweeps at held loads
+MAX_LOAD_LEVELS = 25
+#: sweeps with fewer points than this (median over the file) are not sweeps but one condition per sample
+MIN_SWEEP_POINTS = 8
+#: sweep span from which a tyre builds at least 0.05 Fz (the low-friction check looks only at these)
+_WIDE_SPAN = {"slip_angle": 2 * _DEG, "slip_ratio": 0.03}
+#: force channel and expected sign of dF/d(sweep variable) in ISO-W, per kind
+_FORCE = {"slip_angle": ("fy", -1.0), "slip_ratio": ("fx", 1.0), "static": ("fy", 1.0)}
+
+
+def _sweep_slopes(df: pd.DataFrame, var: str, force: str) -> pd.DataFrame:
+    """Per run: n, correlation and slope sign of force against the sweep variable, max |F|, median fz."""
+    g = df.groupby("run", sort=True)
+    x, y = df[var], df[force]
+    xm, ym = g[var].transform("mean"), g[force].transform("mean")
+    dx, dy = x - xm, y - ym
+    tmp = pd.DataFrame({"run": df["run"], "sxy": dx * dy, "sxx": dx * dx, "syy": dy * dy,
+                        "absf": y.abs(), "fz": df["fz"] if "fz" in df else np.nan})
+    s = tmp.groupby("run", sort=True).agg(n=("sxy", "size"), sxy=("sxy", "sum"), sxx=("sxx", "sum"),
+                                          syy=("syy", "sum"), fmax=("absf", "max"), fz=("fz", "median"))
+    den = np.sqrt(s["sxx"] * s["syy"])
+    s["r"] = np.where(den > 0, s["sxy"] / np.where(den > 0, den, 1.0), 0.0)
+    s["span_f"] = g[force].agg(lambda v: float(np.ptp(v.to_numpy())))
+    s["span_x"] = g[var].agg(lambda v: float(np.ptp(v.to_numpy())))
+    return s
+
+
+def plausibility_problems(ds: Dataset) -> list[str]:
+    """The problem :func:`check_plausible` would raise, as a list (empty when the data pass)."""
+    try:
+        check_plausible(ds, {c: v.get("header", c) for c, v in ds.meta.get("columns", {}).items()})
+    except ValueRangeError as exc:
+        return [str(exc)]
+    return []
+
+
+def check_plausible(ds: Dataset, headers: dict[str, str] | None = None) -> None:
+    """Refuse sweep data that cannot be a tyre measured as labelled, naming the problem.
+
+    Checks, for slip-angle, slip-ratio and static-rig tests:
+
+    * **too many conditions** - a median of fewer than :data:`MIN_SWEEP_POINTS`
+      points per sweep (a run id per sample), or more than
+      :data:`MAX_LOAD_LEVELS` distinct loads (a load ramp, not sweeps at held
+      loads);
+    * **stuck channel** - the force channel constant over a sweep whose slip varies;
+    * **implied friction** - a sweep whose |F|max / Fz is over 4 (loads in kN
+      labelled [N]?), or a file whose sweeps all stay under 0.05 (forces in kN
+      labelled [N]?);
+    * **sign** - sweeps whose force falls with slip where others rise (sweeps
+      of opposite sign), or every sweep against the ISO-W orientation (a
+      positive slip angle gives a negative lateral force; a static push a
+      force of the displacement's sign; a driving slip ratio a positive Fx).
+
+    Raises :class:`~tyrefit.errors.ValueRangeError` (one line).
+    """
+    df, kind, src = ds.df, ds.kind, ds.source
+    if kind not in _FORCE:
+        return
+    force, sign = _FORCE[kind]
+    var = SWEEP_VARIABLE[kind]
+    if force not in df or var not in df or "fz" not in df or df.empty:
+        return
+    if not all(_numeric(df[c]) for c in (force, var, "fz")):
+        return
+    h = headers or {}
+    hf, hz = h.get(force, force), h.get("fz", "fz")
+    s = _sweep_slopes(df, var, force)
+    moving = s[s["span_x"] >= MIN_SWEEP_SPAN[var]]
+    # too many conditions -----------------------------------------------------------
+    n_runs = len(s)
+    if n_runs >= 20 and float(s["n"].median()) < MIN_SWEEP_POINTS:
+        raise ValueRangeError(f"{src}: {n_runs} sweeps with a median of {float(s['n'].median()):g} points each: too "
+                              "many distinct conditions to be slip sweeps (a run id per sample, or a set point that "
+                              f"changes every few samples?); each sweep needs at least {MIN_SWEEP_POINTS} points")
+    if kind != "static":
+        src_col = "load" if "load" in df and _numeric(df["load"]) else "fz"
+        levels = _group_levels(df.groupby("run")[src_col].median().to_numpy(), *_LEVEL_TOL["fz"])
+        if len(levels) > MAX_LOAD_LEVELS:
+            raise ValueRangeError(f"{src}: {len(levels)} distinct loads from {levels[0]:.0f} to {levels[-1]:.0f} N "
+                                  f"over {n_runs} sweeps: too many conditions to be sweeps at held loads (a load "
+                                  f"ramp?); rig sweeps hold the load at a few levels (at most {MAX_LOAD_LEVELS})")
+    if moving.empty:
+        return
+    # stuck channel -------------------------------------------------------------------
+    stuck = moving[moving["span_f"] == 0]
+    if len(stuck):
+        r = int(stuck.index[0])
+        val = float(df.loc[df["run"] == r, force].iloc[0])
+        raise ValueRangeError(f"{src}: column '{hf}' is constant ({val:g} N) in sweep {r} while its {var} varies "
+                              f"({len(stuck)} of {len(moving)} sweeps): a stuck or disconnected channel")
+    # implied friction ------------------------------------------------------------------
+    fz = moving["fz"].to_numpy(float)
+    mu = np.where(fz > 0, moving["fmax"].to_numpy(float) / np.where(fz > 0, fz, 1.0), np.nan)
+    hi = np.flatnonzero(mu > MU_LIMITS[1])
+    if hi.size:
+        i = int(hi[0])
+        raise ValueRangeError(f"{src}: sweep {int(moving.index[i])} implies a friction coefficient |{force}|max/Fz of "
+                              f"{mu[i]:.3g} at Fz {fz[i]:.4g} N (accepted {MU_LIMITS[0]:g} to {MU_LIMITS[1]:g}; "
+                              f"{hi.size} sweep{'s' if hi.size > 1 else ''} over): are the loads in kN? column "
+                              f"'{hz}' is read as given")
+    wide = moving["span_x"].to_numpy(float) >= _WIDE_SPAN.get(var, np.inf)  # sweeps long enough to build force
+    if kind != "static" and np.isfinite(mu[wide]).any() and np.nanmax(mu[wide]) < MU_LIMITS[0]:
+        raise ValueRangeError(f"{src}: every sweep implies a friction coefficient |{force}|max/Fz under "
+                              f"{MU_LIMITS[0]:g} (largest {np.nanmax(mu[wide]):.3g}): are the forces in kN? column "
+                              f"'{hf}' is read as given (or the '{hz}' load is in the wrong unit)")
+    # sign --------------------------------------------------------------------------
+    clear = moving[moving["r"].abs() > 0.5]
+    if len(clear) and kind != "static":  # static pushes: the rig pipeline takes either orientation
+        pos, neg = clear[clear["r"] * sign > 0], clear[clear["r"] * sign < 0]
+        if len(pos) and len(neg):
+            a, b = (pos, neg) if len(pos) >= len(neg) else (neg, pos)
+            raise ValueRangeError(f"{src}: sweeps of opposite sign: '{hf}' {'falls' if (b['r'].iloc[0] < 0) else 'rises'}"
+                                  f" with {var} in sweep{'s' if len(b) > 1 else ''} "
+                                  f"{', '.join(str(int(x)) for x in b.index[:5])} but "
+                                  f"{'rises' if (b['r'].iloc[0] < 0) else 'falls'} in {len(a)} other"
+                                  f"{'s' if len(a) > 1 else ''}: a channel inverted part-way, or mixed sign "
+                                  "conventions")
+        if len(neg) and not len(pos):
+            expect = {"slip_angle": "a positive slip angle gives a negative lateral force",
+                      "slip_ratio": "a positive (driving) slip ratio gives a positive Fx"}[kind]
+            raise ValueRangeError(f"{src}: sign of '{hf}' is reversed in every sweep (ISO-W: {expect}; SAE files "
+                                  "keep that relation): the force channel (or the slip channel) is inverted")
 
 
 #: a CSV without a run column is treated as one continuous record (and segmented) from this many rows on
