@@ -146,10 +146,32 @@ def test_resume_skips_up_to_date_refits_stale_and_force_refits_all(tmp_path, db)
     assert skipped["tyre_0001"]["rmse"] == pytest.approx(first.records[1]["rmse"])  # quality kept in the summary
 
     later = time.time() + 5
-    os.utime(src / "tyre_0001.csv", (later, later))  # the source changed after its .tir was written
+    os.utime(src / "tyre_0001.csv", (later, later))  # touched, same contents: still up to date
+    touched = batch_fit(src, out, workers=1, progress=False)
+    assert touched.n_skipped == 3
+
+    # replaced by another tyre's data with an OLD time stamp (cp -p, mv): the contents decide, not the times
+    (src / "tyre_0001.csv").write_bytes(db.paths[4].read_bytes())
+    os.utime(src / "tyre_0001.csv", (1e9, 1e9))
     stale = batch_fit(src, out, workers=1, progress=False)
     assert {r["name"]: r["status"] for r in stale.records} == {
         "tyre_0000": "skipped", "tyre_0001": "ok", "tyre_0002": "skipped"}
+    assert curve_error(read_tir(out / "tyre_0001.tir"), db.truth["tyre_0004"]) < 0.01
+    side = json.loads((out / "tyre_0001.fit.json").read_text())
+    assert side["options"] == {"convention": "iso", "cost": "l2"} and len(side["source_sha256"]) == 64
+
+    # changed options refit every tyre; the same options again are up to date
+    l1 = batch_fit(src, out, workers=1, progress=False, cost="l1")
+    assert l1.n_ok == 3 and l1.n_skipped == 0
+    assert batch_fit(src, out, workers=1, progress=False, cost="l1").n_skipped == 3
+
+    # a .tir edited by hand since the batch wrote it is not the batch's any more
+    tir = out / "tyre_0002.tir"
+    tir.write_text(tir.read_text() + "$ my edit\n")
+    edited = batch_fit(src, out, workers=1, progress=False, cost="l1")
+    rec = {r["name"]: r for r in edited.records}["tyre_0002"]
+    assert rec["status"] == "failed" and "changed since" in rec["error"] and "--force" in rec["error"]
+    assert tir.read_text().endswith("$ my edit\n")
 
     forced = batch_fit(src, out, workers=1, progress=False, force=True)
     assert forced.n_ok == 3

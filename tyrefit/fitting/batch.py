@@ -33,13 +33,22 @@ path and a small dict of numbers crosses a process boundary.
 
 Resuming
 --------
-A tyre whose ``.tir`` exists in the output folder and is newer than its data
-file is skipped (its previous status record is reused in the summary) unless
-``force``.  A ``.tir`` older than its data file is refitted when a status
-record shows that the batch wrote it (it is stale); a ``.tir`` the batch did
-not write is never replaced without ``force`` (that tyre is reported as
+Beside each ``.tir`` the batch writes a fingerprint, ``<name>.fit.json``: the
+SHA-256 of the source file's contents, the fit options (cost, sign
+convention, ...), the tyrefit version and the SHA-256 of the ``.tir`` it
+wrote.  A tyre is *up to date* (skipped, its previous status record reused)
+only when all of them still match; file times are not used, so a source
+replaced by another tyre's data (even with an older time stamp), changed
+options (``--cost l1``) or a new tyrefit refit it.  A ``.tir`` the batch did
+not write (no fingerprint and no status record), or one edited since the
+batch wrote it, is never replaced without ``force`` (that tyre is reported as
 failed).  ``summary.csv`` and ``index.html`` belong to the batch folder and
 are rewritten (atomically) on every run.
+
+Each tyre is committed as it finishes (its ``.tir``, then its fingerprint),
+so an interrupted batch keeps the tyres it finished; this is the one place
+where tyrefit does not stage a run's outputs until the whole run succeeded
+(:mod:`tyrefit.io.outputs`).
 
 A bad file never stops the batch: it is reported with status ``failed`` and
 the one-line :class:`~tyrefit.errors.TyrefitError` message.  Any other
@@ -50,6 +59,7 @@ exception and the traceback in its status record, and the batch goes on.
 from __future__ import annotations
 
 import glob
+import hashlib
 import json
 import math
 import os
@@ -198,8 +208,40 @@ def _fit_quality_from_result(result, tyre, ds) -> dict[str, Any]:
     return q
 
 
+def _sha256(path: str | os.PathLike) -> str | None:
+    h = hashlib.sha256()
+    try:
+        with open(path, "rb") as fh:
+            for block in iter(lambda: fh.read(1 << 20), b""):
+                h.update(block)
+    except OSError:
+        return None
+    return h.hexdigest()
+
+
+def fingerprint(source: str | os.PathLike, options: dict[str, Any]) -> dict[str, Any]:
+    """What a batch ``.tir`` was fitted from: source contents (SHA-256), fit options, tyrefit version."""
+    from .. import __version__
+
+    return {"source": str(source), "source_sha256": _sha256(source),
+            "options": {k: options[k] for k in sorted(options)}, "tyrefit": __version__}
+
+
+def _sidecar(tir: str | os.PathLike) -> Path:
+    p = Path(tir)
+    return p.with_name(p.stem + ".fit.json")
+
+
+def _read_json(path: Path) -> dict | None:
+    try:
+        rec = json.loads(path.read_text(encoding="utf-8"))
+        return rec if isinstance(rec, dict) else None
+    except (OSError, ValueError):
+        return None
+
+
 def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2", convention: str = "iso",
-             status_path: str | None = None) -> dict[str, Any]:
+             status_path: str | None = None, fingerprint: dict | None = None) -> dict[str, Any]:
     """Read one data file, fit PAC89, write the ``.tir`` (replacing it) and the status record.
 
     This is the task every worker runs; it never raises for a bad file.
@@ -220,6 +262,9 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
         result = fit_pac89(ds, cost=cost)
         tyre = result.tyre
         tyre.to_tir(tir, force=True)  # the caller decided that this .tir may be (re)written
+        if fingerprint is not None:  # what this .tir was fitted from: decides 'up to date' next time
+            write_text(_sidecar(tir), json.dumps({**fingerprint, "tir_sha256": _sha256(tir)}, indent=1) + "\n",
+                       force=True)
         rec.update(_fit_quality_from_result(result, tyre, ds))
         rec["status"] = "ok"
     except TyrefitError as exc:
@@ -239,8 +284,9 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
 
 
 def _fit_task(task: tuple) -> dict[str, Any]:
-    source, tir, name, cost, convention, status_path = task
-    return fit_file(source, tir, name=name, cost=cost, convention=convention, status_path=status_path)
+    source, tir, name, cost, convention, status_path, fp = task
+    return fit_file(source, tir, name=name, cost=cost, convention=convention, status_path=status_path,
+                    fingerprint=fp)
 
 
 def _jsonable(rec: dict) -> dict:
@@ -325,28 +371,42 @@ class BatchResult:
 
 # --------------------------------------------------------------------------- orchestration
 
-def _plan(paths: Sequence[Path], out: Path, force: bool) -> tuple[list[tuple], list[dict]]:
-    """Tasks to run and records of tyres not to run (skipped, or refused)."""
+def _plan(paths: Sequence[Path], out: Path, force: bool,
+          options: dict[str, Any] | None = None) -> tuple[list[tuple], list[dict]]:
+    """Tasks to run and records of tyres not to run (up to date, or refused).
+
+    Each task carries the fingerprint (:func:`fingerprint`) the worker records beside the ``.tir``.
+    """
+    options = dict(options or {})
     tasks, done = [], []
     sdir = out / _STATUS_DIR
     for path, name in zip(paths, _tyre_names(paths)):
         tir, status = out / f"{name}.tir", sdir / f"{name}.json"
+        fp = fingerprint(path, options)
         if tir.exists() and not force:
             prev = _read_status(status)
-            fresh = tir.stat().st_mtime >= path.stat().st_mtime
-            if fresh:
+            side = _read_json(_sidecar(tir))
+            ours = side is not None and side.get("tir_sha256") == _sha256(tir)
+            if ours and all(side.get(k) == fp[k] for k in ("source_sha256", "options", "tyrefit")):
                 rec = {c: prev.get(c) for c in SUMMARY_COLUMNS if c in prev} if prev else {}
                 rec.update(name=name, status="skipped", source=str(path), tir=str(tir), time_s=0.0,
                            error="" if prev else "up to date; no status record, fit quality unknown")
                 done.append(rec)
                 continue
-            if not prev:  # not written by this batch: never replace without force
-                err = OutputExistsError(f"{tir}: exists, is older than {path.name} and was not written by "
-                                        "'tyrefit batch fit'; pass --force to replace it")
+            if side is not None and not ours:
+                err = OutputExistsError(f"{tir}: changed since 'tyrefit batch fit' wrote it (its SHA-256 differs "
+                                        f"from {_sidecar(tir).name}); pass --force to replace it")
                 done.append({"name": name, "status": "failed", "source": str(path), "tir": str(tir),
                              "error": _one_line(err), "time_s": 0.0})
                 continue
-        tasks.append((str(path), str(tir), name, None, None, str(status)))
+            if side is None and not prev:  # not written by this batch: never replace without force
+                err = OutputExistsError(f"{tir}: exists and was not written by 'tyrefit batch fit' (no "
+                                        f"{_sidecar(tir).name}); pass --force to replace it")
+                done.append({"name": name, "status": "failed", "source": str(path), "tir": str(tir),
+                             "error": _one_line(err), "time_s": 0.0})
+                continue
+            # ours but stale (source, options or version changed), or written before fingerprints: refit
+        tasks.append((str(path), str(tir), name, None, None, str(status), fp))
     return tasks, done
 
 
@@ -530,8 +590,10 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     (out / _STATUS_DIR).mkdir(exist_ok=True)
-    tasks, records = _plan(files, out, force)
-    tasks = [(s, t, n, cost, convention, st) for (s, t, n, _, _, st) in tasks]
+    # every option that changes the fitted tyre: a change refits (the fingerprint beside each .tir)
+    options = {"cost": cost, "convention": convention}
+    tasks, records = _plan(files, out, force, options)
+    tasks = [(s, t, n, cost, convention, st, fp) for (s, t, n, _, _, st, fp) in tasks]
 
     client, own_client = (None, False)
     if scheduler is not None:

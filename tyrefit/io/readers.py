@@ -620,7 +620,13 @@ def check_plausible(ds: Dataset, headers: dict[str, str] | None = None) -> None:
                               f"changes every few samples?); each sweep needs at least {MIN_SWEEP_POINTS} points")
     if kind != "static":
         src_col = "load" if "load" in df and _numeric(df["load"]) else "fz"
-        levels = _group_levels(df.groupby("run")[src_col].median().to_numpy(), *_LEVEL_TOL["fz"])
+        levels = _group_levels(df.groupby("run")[src_col].median().to_numpy(), 100.0, 0.02)
+        g = df.groupby("run")["fz"]
+        drift = (g.agg(lambda v: float(np.ptp(v.to_numpy()))) / g.median().abs().clip(lower=1.0)).to_numpy()
+        if n_runs >= 3 and float(np.median(drift)) > 0.5:
+            raise ValueRangeError(f"{src}: the load is not held during the sweeps (it varies by a median "
+                                  f"{float(np.median(drift)):.0%} of its value within a sweep, over {n_runs} "
+                                  "sweeps): a load ramp is not slip sweeps at held loads")
         if len(levels) > MAX_LOAD_LEVELS:
             raise ValueRangeError(f"{src}: {len(levels)} distinct loads from {levels[0]:.0f} to {levels[-1]:.0f} N "
                                   f"over {n_runs} sweeps: too many conditions to be sweeps at held loads (a load "
