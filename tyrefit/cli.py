@@ -33,7 +33,7 @@ class _Parser(argparse.ArgumentParser):
 #: numeric flags of every command: attribute -> (low, high, low excluded, what is accepted).  Checked
 #: after parsing (finite, in range), so a bad value is one line and exit code 2 like any bad input.
 NUMERIC_FLAGS: dict[str, tuple[float | None, float | None, bool, str]] = {
-    "rated_load": (0.0, 200e3, True, "the rated load must be a positive force in N, at most 200 kN (e.g. 6031)"),
+    "rated_load": (0.0, 200e3, True, "the rated load must be a positive, finite force in N, at most 200 kN (e.g. 6031)"),
     "road_mu": (0.05, 1.5, False, "the road adhesion coefficient must be between 0.05 and 1.5"),
     "camber": (-10.0, 10.0, False, "the brush model's camber range is -10 to 10 deg"),
     "seed": (0, 2**32 - 1, False, "the seed must be an integer from 0 to 2**32 - 1"),
