@@ -47,8 +47,11 @@ def test_eight_sweeps_and_more_keep_their_rates():
     assert not bad, bad
 
 
-#: mutations the suite must catch on the current engine (see MUTATIONS; names follow tyrefit.diagnose.engine)
-MUST_CATCH = ["insample+noconfirm+noscreen", "noconfirm+noscreen"]
+#: mutations the suite must catch (see runner.MUTATIONS; they patch names in tyrefit.diagnose.engine).  On the
+#: engine of issue 11 the calibrated screening test holds the false-alarm level by itself: in-sample evidence
+#: alone, or the confirmation guards alone removed, leave the nulls clean (measured, see the report), so those
+#: are caught only together with the screening
+MUST_CATCH = ["noscreen", "insample+noconfirm+noscreen"]
 
 
 @pytest.mark.parametrize("mutation", MUST_CATCH)

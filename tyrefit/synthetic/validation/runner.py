@@ -20,6 +20,7 @@ Runs are deterministic per seed.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -35,7 +36,7 @@ import numpy as np
 from .cases import LAYOUTS, NOISE_MODELS, SIGMA, applicable, make_case
 from .truth import EFFECT_FAMILY, EFFECTS
 
-__all__ = ["check_targets", "MUTATIONS", "mutated", "PLAN", "plan_cases", "run_case", "run", "rates", "markdown", "fingerprint", "wilson", "base_fit",
+__all__ = ["oracle", "check_targets", "MUTATIONS", "mutated", "PLAN", "plan_cases", "run_case", "run", "rates", "markdown", "fingerprint", "wilson", "base_fit",
            "TARGETS"]
 
 #: issue 11's targets on the one-sweep-per-load layout
@@ -81,7 +82,8 @@ def git_commit() -> str | None:
 MUTATIONS = {
     "insample": "held-out evidence replaced by in-sample: every refit on a subset (fold, level) fits all the data",
     "noconfirm": "the confirmation guards removed: every screened candidate that is refitted is confirmed",
-    "noscreen": "the screening test removed: every candidate counts as significant (Holm-adjusted p = 0)",
+    "noscreen": "the screening test removed: every candidate counts as significant (adjusted p = 0)",
+    "noguard-<name>": "one confirmation guard (a function in engine.GUARDS / MANY_SWEEP_GUARDS) removed",
 }
 
 
@@ -103,12 +105,41 @@ def mutated(name: str | None):
         return
     from ...diagnose import engine
 
+    target, attr = engine, None
+    if name.startswith("noguard-"):
+        # one confirmation guard removed from the engine's guard lists
+        gname = name.split("-", 1)[1]
+        lists = [a for a in ("GUARDS", "MANY_SWEEP_GUARDS") if hasattr(engine, a)]
+        if not any(g.__name__ == gname for a in lists for g in getattr(engine, a)):
+            raise LookupError(f"tyrefit.diagnose.engine has no guard {gname!r} to remove; adapt MUTATIONS")
+        saved = {a: getattr(engine, a) for a in lists}
+        for a in lists:
+            setattr(engine, a, tuple(g for g in saved[a] if g.__name__ != gname))
+        try:
+            yield
+        finally:
+            for a, v in saved.items():
+                setattr(engine, a, v)
+        return
     if name == "noscreen":
-        attr = "holm"
-        orig = getattr(engine, attr, None)
+        if hasattr(engine, "_Engine") and hasattr(engine._Engine, "screen") and not hasattr(engine, "holm"):
+            target, attr = engine._Engine, "screen"
+            orig = engine._Engine.screen
 
-        def patched(p, *a, **k):
-            return [0.0] * len(p)
+            def patched(self, *a, **k):
+                scr = orig(self, *a, **k)
+                zero = np.zeros_like(np.asarray(scr.p_adjusted, dtype=float))
+                try:
+                    scr.p_adjusted = zero
+                except (AttributeError, TypeError):
+                    scr = dataclasses.replace(scr, p_adjusted=zero)
+                return scr
+        else:
+            attr = "holm"
+            orig = getattr(engine, attr, None)
+
+            def patched(p, *a, **k):
+                return [0.0] * len(p)
     elif name == "insample":
         attr = "fit"
         orig = getattr(engine, attr, None)
@@ -122,14 +153,14 @@ def mutated(name: str | None):
         def patched(*a, **k):
             return None
     else:
-        raise ValueError(f"unknown mutation {name!r}; known: {', '.join(MUTATIONS)}")
+        raise ValueError(f"unknown mutation {name!r}; known: {', '.join(MUTATIONS)}, noguard-<guard function>")
     if orig is None:
         raise LookupError(f"tyrefit.diagnose.engine has no {attr!r} to mutate ({name}); adapt MUTATIONS")
-    setattr(engine, attr, patched)
+    setattr(target, attr, patched)
     try:
         yield
     finally:
-        setattr(engine, attr, orig)
+        setattr(target, attr, orig)
 
 
 def plan_cases(layouts=None, noises=None, families=None, n_null=None, n_effect=None):
@@ -188,6 +219,8 @@ def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_
         cand = getattr(dg, "candidates", {}) or {}
         why = [c for c in cand.values() if getattr(c, "family", None) == case.family]
         row["truth_status"] = sorted({f"{c.status}: {c.reason}"[:160] for c in why})[:3]
+        # the right answer where the layout cannot identify the effect (shifts on one-sided sweeps)
+        row["said_untestable"] = bool(why) and all(str(c.status).startswith("not testable") for c in why)
     return row
 
 
@@ -282,7 +315,9 @@ def rates(rows: list[dict]) -> dict:
         else:
             k = sum(r["right_first"] for r in ok)
             f = sum(r["found"] for r in ok)
+            u = sum(bool(r.get("said_untestable")) for r in ok)
             g.update(right_first=k / len(rs), right_first_ci=wilson(k, len(rs)), found=f / len(rs),
+                     said_untestable=u / len(rs),
                      first_families=_counts(r["first_family"] or "-" for r in ok))
             ratios = np.array([r["ratio"] for r in ok if r["right_first"]])
             if len(ratios):
@@ -392,6 +427,8 @@ def markdown(res: dict, meta: dict | None = None) -> str:
                    if "ratio_first_median" in g else "-")
             rat += f" / final {g['ratio_median']:.2f}" if "ratio_median" in g else ""
             first = ", ".join(f"{k} {v}" for k, v in list(g["first_families"].items())[:3])
+            if g.get("said_untestable"):
+                first += f"; says not testable in {_pct(g['said_untestable'])}"
             lines.append(f"| {g['layout']} | {g['noise']} | {g['effect']} ({g['family']}) | {g['n']} | "
                          f"{_pct(g['right_first'], g['right_first_ci'])} | {_pct(g['found'])} | {rat} | | {first} | "
                          f"{g.get('seconds_mean', float('nan')):.1f} |")
@@ -421,3 +458,36 @@ def base_fit(layouts=None) -> dict:
             f = fit_start(ModelSpec((), {}), prepare(c.data, rated_load=c.rated_load))
             out[lay][eff or "null"] = float(f.rmse) / SIGMA
     return out
+
+
+def oracle(layout: str, effect: str | None, tyre=None) -> dict:
+    """RMSE / sigma of the start model plus each catalogue effect alone, fitted to a noise-free truth.
+
+    The best single catalogue effect on noise-free data is what an ideal
+    diagnosis could name; where it is not of the truth's family, the truth
+    cannot be told from another family by the catalogue on this layout (a
+    property of the data, not a failure of the engine).  ``tyre`` overrides
+    the truth tyre (to try other effect laws).
+    """
+    from ...diagnose.data import prepare
+    from ...diagnose.fitter import ModelSpec, fit, fit_start
+    from ...effects import EFFECTS as CATALOGUE
+    from ...errors import FitError
+
+    c = make_case(layout, "iid", effect, 0, sigma=0.0)
+    if tyre is not None:
+        d = c.data
+        d["fy"] = tyre.lateral_force(d["fz"].to_numpy(), d["slip_angle"].to_numpy(), d["camber"].to_numpy(),
+                                     d["pressure"].to_numpy())
+    sd = prepare(c.data, rated_load=c.rated_load)
+    base = fit_start(ModelSpec((), {}), sd)
+    out = {"start": float(base.rmse) / SIGMA}
+    for eid, e in CATALOGUE.items():
+        if e.why_not_testable(sd.summary) is not None:
+            continue
+        spec = ModelSpec((eid,), {})
+        try:
+            out[eid] = float(fit(spec, sd, x0=spec.start(base.values)).rmse) / SIGMA
+        except FitError:
+            continue
+    return dict(sorted(out.items(), key=lambda kv: kv[1]))
