@@ -226,3 +226,13 @@ def test_fit_bad_size_or_load_flags(tmp_path, capsys, flags, match):
     assert main(["fit", str(csv), "--out", str(tmp_path / "t.tir"), *flags]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and match in err[0]
+
+
+def test_json_block_missing_a_coefficient_is_incomplete(tmp_path):
+    doc = json.loads(json.dumps(chrono_dict(read_chrono_json(DATA / "ref_HMMWV_Pac89Tire.json"))))
+    del doc["Lateral Coefficients"]["a5"], doc["Aligning Coefficients"]["c17"]
+    p = tmp_path / "m.json"
+    p.write_text(json.dumps(doc))
+    t = read_chrono_json(p)
+    assert t.missing == ["a5", "c17"]
+    assert t.check()[0] == "required coefficient a5 is missing"

@@ -81,6 +81,7 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
     if not isinstance(doc, dict) or "Lateral Coefficients" not in doc:
         raise FormatError(f"{p}: no 'Lateral Coefficients'; expected Chrono's Pac89Tire JSON")
     coeffs: dict[str, float] = {}
+    missing: list[str] = []
     for sec, names in _SECTIONS:
         block = doc.get(sec, {}) or {}
         if not isinstance(block, dict):
@@ -89,6 +90,8 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
             k = str(k).lower()
             if k in names:
                 coeffs[k] = _finite(v, p, f"{sec} {k}")
+        if sec in doc:  # Chrono reads every coefficient of a block that is present
+            missing += [k for k in names if k not in coeffs]
     d = doc.get("Design Parameters", {}) or {}
     if not isinstance(d, dict):
         raise FormatError(f"{p}: 'Design Parameters' must be an object of named values")
@@ -121,6 +124,7 @@ def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
         rolling_resistance=num("Rolling Resistance") or 0.0,
         vertical_curve=curve or None,
         name=str(doc.get("Name", p.stem)),
+        missing=missing,
     )
 
 
