@@ -1,6 +1,7 @@
 """Diagnose: ``tyrefit diagnose`` on the bundled passenger tyre, a TTC record and a suite case.
 
-Data (all synthetic, nothing here is a measurement): the bundled 205/55R16
+Data (all synthetic, nothing here is a measurement): six one-per-load sweeps
+(:mod:`tyrefit.synthetic.hidden`, degressive friction, AR(1) noise), the bundled 205/55R16
 passenger tyre (:mod:`tyrefit.synthetic.passenger`, 5820 points in 60 sweeps,
 hidden load_friction + camber + pressure + offsets), the FSAE-TTC-style
 record of :mod:`tyrefit.synthetic.ttc` (8826 points in 28 sweeps after
@@ -21,7 +22,10 @@ this loaded 2-core machine).
 
 Measurements:
 
-* ``diagnose()`` (Python API, no report) on each data set vs that baseline;
+* ``diagnose()`` (Python API, no report) on each data set vs that baseline,
+  among them the commonest rig layout of issue 11 (six loads, one sweep each;
+  requirement: <= 10 s wall time, ``under_10s``) and the TTC record (<= 30 s,
+  ``under_30s``);
 * the command line ``tyrefit diagnose passenger.csv --rated-load 6031 --json
   --report`` as a subprocess (interpreter start, reading, diagnosis, HTML
   report with figures) vs the same baseline; ``under_60s`` records the
@@ -86,10 +90,15 @@ def _run() -> dict:
     from tyrefit.diagnose import prepare
     from tyrefit.io.readers import read_data
     from tyrefit.synthetic import passenger
-    from tyrefit.synthetic.hidden import make_case
+    from tyrefit.synthetic.hidden import make_case, rig_grid
 
     rows, info = [], {}
     sets = []
+    # the commonest rig layout (issue 11): six loads, one -12..+12 deg sweep each, one pressure, no camber
+    six = make_case(("load_friction",), "ar1", seed=3,
+                    grid=rig_grid(loads=(2000.0, 3200.0, 4400.0, 5600.0, 6800.0, 8000.0), cambers_deg=(0.0,),
+                                  pressures=(220e3,)))
+    sets.append(("6 sweeps, one per load (294 points)", six.data, six.rated_load, "six"))
     pas = read_data(data_path("passenger", "passenger_205_55R16.csv"))
     sets.append(("passenger 205/55R16 (5820 points, 60 sweeps)", pas, passenger.RATED_LOAD, "passenger"))
     try:
@@ -102,8 +111,10 @@ def _run() -> dict:
     for name, ds, rated, key in sets:
         base = _baseline(prepare(ds, rated_load=rated))
         t, dg = best_of(lambda: _diag(ds, rated), repeat=2)
+        limit = {"six": 10.0, "ttc": 30.0}.get(key)
+        extra = {f"under_{limit:.0f}s": bool(t <= limit)} if limit else {}
         rows.append(measurement(f"diagnose() {name}", t, "one plain FD fit of the start model", base,
-                                accepted=",".join(dg.accepted), points=dg.data.n))
+                                accepted=",".join(dg.accepted), points=dg.data.n, **extra))
         info[key] = {"accepted": dg.accepted, "noise_floor_N": dg.noise_floor,
                      "steps": [(s.added, round(s.rmse, 2), round(s.rmse_heldout, 2)) for s in dg.steps]}
     # the command line end to end, with the HTML report

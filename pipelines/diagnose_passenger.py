@@ -3,7 +3,10 @@
 The whole loop of issue 5 on ``data/passenger``: ``tyrefit diagnose`` finds
 where the base PAC89 model fails and which physical effects are missing, and
 ``tyrefit fit --effects`` adds the accepted ones that PAC89 can hold and
-writes the ``.tir`` with its before/after report.  No logic of its own.
+writes the ``.tir`` with its before/after report.  Then the commonest rig layout,
+truck tyre A's five one-sided dynamic-rig sweeps (``truck_a/``), whose advice
+section says what such data cannot carry and which test would decide it.  No
+logic of its own.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from tyrefit.cli import run_checked
 from tyrefit.io.datasets import data_path
 
 RATED_LOAD_N = 6031.0  # load index 91 (data/passenger/README.md)
+TRUCK_RATED_LOAD_N = 41680.0  # 4250 kg, the rated load of tyre A (tyrefit.synthetic.truck, seed 003)
 
 
 def _run(argv: list[str]) -> None:
@@ -34,10 +38,23 @@ def main(out_dir: str | Path = "reports/diagnose_passenger") -> dict:
         _run(["fit", data, "--effects", ",".join(accepted), "--rated-load", str(RATED_LOAD_N),
               "--out", str(out / "passenger.tir"), "--report", str(out / "fit_with_effects")])
     steps = diag["steps"]
+    # the commonest rig layout: truck tyre A's dynamic-rig test, five loads, one 0..12 deg sweep each
+    truck = out / "truck_a"
+    _run(["diagnose", str(data_path("truck", "tyre_a_dynamic.csv")), "--rated-load", str(TRUCK_RATED_LOAD_N),
+          "--json", str(truck / "diagnose.json"), "--report", str(truck)])
+    tdiag = json.loads((truck / "diagnose.json").read_text())
+
+    def advice(d):
+        return "; ".join(f"{a['family']} {a['status']} -> {a['test'].split(':')[0]}" for a in d["advice"]
+                         if a["status"] != "not detected")
+
     return {"headline": f"accepted {', '.join(accepted) or 'nothing'}; RMSE {steps[0]['rmse']:.0f} -> "
                         f"{steps[-1]['rmse']:.0f} N (held-out {steps[-1]['rmse_heldout']:.0f} N, "
-                        f"noise floor {diag['noise_floor']:.0f} N)",
-            "accepted": accepted}
+                        f"noise floor {diag['noise_floor']:.0f} N); advice: {advice(diag) or 'none'}. "
+                        f"Truck A (5 one-sided sweeps, truck_a/index.html): accepted "
+                        f"{', '.join(tdiag['accepted']) or 'nothing'}; advice: {advice(tdiag) or 'none'}",
+            "accepted": accepted, "advice": diag["advice"], "truck_a_accepted": tdiag["accepted"],
+            "truck_a_advice": tdiag["advice"]}
 
 
 if __name__ == "__main__":

@@ -648,7 +648,7 @@ def test_held_out_extreme_loads_are_extrapolations_reported_apart():
 def test_guards_are_named_and_the_held_out_guard_decides():
     from tyrefit.diagnose import engine
 
-    assert engine.heldout_gain_guard in engine.GUARDS and engine.levelout_guard in engine.GUARDS
+    assert {engine.heldout_gain_guard, engine.heldout_noise_guard, engine.levelout_guard} == set(engine.GUARDS)
     assert set(engine.MANY_SWEEP_GUARDS) == {engine.fold_guard, engine.stability_guard}
     ev = {"delta_heldout": 0.1, "delta_levelout": 1.0, "folds_improved": 1.0, "boot_prob": 1.0}
     s = Settings()
@@ -656,6 +656,36 @@ def test_guards_are_named_and_the_held_out_guard_decides():
     assert engine._confirm({**ev, "delta_heldout": 1.0}, 0.5, s) is None
     assert "resamples" in engine._confirm({**ev, "delta_heldout": 1.0, "boot_prob": 0.5}, 0.5, s)
     assert engine._confirm({**ev, "delta_heldout": 1.0, "boot_prob": 0.5}, 0.5, s, few_sweeps=True) is None
+    assert "noise" in engine._confirm({**ev, "delta_heldout": 1.0, "p_heldout": 0.2}, 0.5, s, few_sweeps=True)
+
+
+def test_heldout_gain_null_is_the_distribution_of_noise_fits():
+    """Pure noise: the observed held-out gain of a candidate that is not there sits inside its simulated
+    null (p roughly uniform); a real effect's gain is far out in the tail."""
+    from tyrefit.diagnose.stats import NoiseModel, SweepLayout, heldout_gain_null
+
+    rng = np.random.default_rng(2)
+    u, z, sweep, J_model, cands = _toy_design()
+    lay = SweepLayout(sweep, 6)
+    fold = sweep.copy()
+    inside = (sweep > 0) & (sweep < 5)
+    nm = NoiseModel(sd=np.ones(6), rho=np.array([0.8]), tau=np.array([0.0]))
+    null = heldout_gain_null(J_model, cands[0], nm, lay, fold, inside, rng, 499)
+
+    def gain(y):
+        g = 0.0
+        for f in range(6):
+            te, tr = (fold == f) & inside, fold != f
+            if not te.any():
+                continue
+            for X, sgn in ((J_model, 1.0), (np.hstack([J_model, cands[0]]), -1.0)):
+                c = np.linalg.lstsq(X[tr], y[tr], rcond=None)[0]
+                g += sgn * np.sum((y[te] - X[te] @ c) ** 2)
+        return g
+
+    ps = [np.mean(null >= gain(_toy_noise("ar1", 6, 49, rng))) for _ in range(60)]
+    assert 0.3 < np.mean(ps) < 0.7 and np.mean(np.array(ps) < 0.05) < 0.15
+    assert np.mean(null >= gain(_toy_noise("ar1", 6, 49, rng) + 5.0 * cands[0][:, 0])) < 0.01
 
 
 def test_one_sided_sweeps_say_which_terms_they_cannot_carry(tmp_path):

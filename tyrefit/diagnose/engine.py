@@ -80,7 +80,7 @@ from ..errors import DataError, FitError
 from .advice import build_advice, needs_model
 from .data import SweepData, prepare
 from .fitter import FitOut, ModelSpec, fit, fit_start
-from .stats import (MIN_FLIP_SWEEPS, SweepLayout, cluster_bootstrap_prob, cluster_sums, crossval_surface, level_folds, noise_floor,
+from .stats import (MIN_FLIP_SWEEPS, SweepLayout, heldout_gain_null, cluster_bootstrap_prob, cluster_sums, crossval_surface, level_folds, noise_floor,
                     score_test_groups, screen_candidates, sweep_folds)
 
 __all__ = ["Settings", "Step", "Candidate", "diagnose", "pac89_effects", "MISFIT_RATIO", "MISFIT_SHARE"]
@@ -115,6 +115,8 @@ class Settings:
     n_boot: int = 1999
     test: str = "auto"
     loso_max_sweeps: int = 8
+    n_boot_heldout: int = 499
+    heldout_extrapolation: bool = False
     batch: int = 3
     max_steps: int = 8
     max_points_per_sweep: int = 100
@@ -236,6 +238,8 @@ class _Engine:
         """Per point: is its sweep, when held out, inside the training levels of every factor? Per fold: SSE mask."""
         d = self.data
         inside_sweep = np.ones(self.G, dtype=bool)
+        if self.s.heldout_extrapolation:
+            return inside_sweep[d.sweep], inside_sweep
         for f, lv in d.levels.items():
             if len(lv) < 2:
                 continue
@@ -304,7 +308,7 @@ class _Engine:
                                 self.s.test)
         return scr
 
-    def evaluate(self, cspec: ModelSpec, cur: Step) -> tuple[Step, dict]:
+    def evaluate(self, cspec: ModelSpec, cur: Step, noise=None) -> tuple[Step, dict]:
         d = self.data
         full = fit(cspec, d, x0=cspec.start(cur.fit.values))
         st = self.step(cspec, full, None)
@@ -320,8 +324,29 @@ class _Engine:
               "delta_levelout": dlev,
               "folds_improved": float(np.mean(cur.fold_sse[fin] - st.fold_sse[fin] > 0)) if fin.any() else 0.0,
               "boot_prob": cluster_bootstrap_prob(diff, self.rng),
+              "p_heldout": self.heldout_p(cspec, cur, st, noise),
               "success": full.success}
         return st, ev
+
+    def heldout_p(self, cspec: ModelSpec, cur: Step, st: Step, noise) -> float:
+        """p-value of the held-out gain against pure noise (noise-model screening only, else NaN).
+
+        The gain on the interpolated held-out sweeps is compared with its null
+        distribution under the estimated noise model
+        (:func:`~tyrefit.diagnose.stats.heldout_gain_null`): the second,
+        held-out gate after the score test's screening.
+        """
+        if noise is None:
+            return float("nan")
+        d = self.data
+        _, J = cspec.jacobian(cspec.start(cur.fit.values), d.inputs)
+        old = [cspec.names.index(n) for n in cur.spec.names if n in cspec.names]
+        new = [i for i, n in enumerate(cspec.names) if n not in cur.spec.names]
+        m = self.inside
+        gain = float(np.sum(cur.oof[m] ** 2) - np.sum(st.oof[m] ** 2))
+        null = heldout_gain_null(J[:, old], J[:, new], noise, self.layout, self.point_fold, m, self.rng,
+                                 self.s.n_boot_heldout)
+        return float((1.0 + np.count_nonzero(null >= gain)) / (len(null) + 1.0))
 
 
 # --- confirmation guards: each returns None when the evidence passes, else why not ---------------------
@@ -337,6 +362,15 @@ def levelout_guard(ev: dict, margin_abs: float, s: Settings) -> str | None:
     """Held-out interior load / camber / pressure levels (several sweeps each) must not get worse."""
     if np.isfinite(ev["delta_levelout"]) and ev["delta_levelout"] < 0:
         return f"worse on held-out condition levels (RMSE +{-ev['delta_levelout']:.2f} N)"
+    return None
+
+
+def heldout_noise_guard(ev: dict, margin_abs: float, s: Settings) -> str | None:
+    """The held-out gain must be larger than pure noise gives (noise-model screening; p < alpha)."""
+    p = ev.get("p_heldout", float("nan"))
+    if np.isfinite(p) and p >= s.alpha:
+        return (f"held-out gain within what noise gives: p = {p:.3g} >= {s.alpha:g} against the noise model's "
+                "held-out gains")
     return None
 
 
@@ -358,7 +392,7 @@ def stability_guard(ev: dict, margin_abs: float, s: Settings) -> str | None:
 #: guards applied to every candidate; ``MANY_SWEEP_GUARDS`` only with more than ``Settings.loso_max_sweeps``
 #: sweeps (resampling 4-8 sweeps has no resolution: there the calibrated screening carries significance and
 #: the held-out gain carries generalisation)
-GUARDS = (heldout_gain_guard, levelout_guard)
+GUARDS = (heldout_gain_guard, heldout_noise_guard, levelout_guard)
 MANY_SWEEP_GUARDS = (fold_guard, stability_guard)
 
 
@@ -475,7 +509,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         for batch in batches:
             for e, cspec, _ in batch:
                 try:
-                    st, ev = eng.evaluate(cspec, cur)
+                    st, ev = eng.evaluate(cspec, cur, scr.noise)
                 except FitError as exc:
                     cands[e.id].status, cands[e.id].reason = "significant but not confirmed", f"refit failed: {exc}"
                     continue
