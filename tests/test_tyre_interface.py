@@ -255,7 +255,9 @@ def test_pac89_check_finds_unphysical_models(change, match):
 
 @pytest.mark.parametrize("change,match", [
     ({"PCY1": -1.0}, "Cy = PCY1 LCY <= 0"),
-    ({"PDY1": -0.5, "PDY2": 0.0}, "mu_y <= 0"),
+    ({"PDY1": 0.1, "PDY2": 0.5}, "mu_y = 0 or changes sign"),  # crosses zero inside 1750-78750 N
+    ({"PDY1": 0.0, "PDY2": 0.0}, "mu_y = 0 or changes sign"),
+    ({"PDX1": 0.1, "PDX2": 0.5}, "mu_x = 0 or changes sign"),
     ({"PKY2": 0.0}, "PKY2 = 0"),
     ({"PKY1": 0.0}, "Kya = 0"),
     ({"PCX1": 0.0}, "Cx = PCX1 LCX <= 0"),

@@ -23,7 +23,7 @@ from pathlib import Path
 from ..errors import FormatError
 from ..models import pac89
 from ..tyres.base import Tyre
-from ..tyres.mf import MFTyre
+from ..tyres.mf import REQUIRED_MF, MFTyre
 from ..tyres.pac89 import REQUIRED, Pac89Tyre
 from .outputs import write_text
 
@@ -277,6 +277,7 @@ def read_property_file(path: str | os.PathLike) -> PropertyFile:
         text = raw.decode("latin-1")
     pf = PropertyFile(path=str(p))
     section = None
+    quoted: set[tuple[str, str]] = set()  # (section, key) of values written in quotes: text by intent
     for lineno, line in enumerate(text.splitlines(), 1):
         s = line.strip()
         if not s:
@@ -310,7 +311,10 @@ def read_property_file(path: str | os.PathLike) -> PropertyFile:
                 if key in entries:
                     raise FormatError(f"{p}:{lineno}: {key} is given twice in [{section}] (first at line "
                                       f"{pf.lines[(section, key)]}); keep one")
-                entries[key] = _value(s[eq + 1:])
+                raw_value = s[eq + 1:].strip()
+                entries[key] = _value(raw_value)
+                if raw_value[:1] in ("'", '"'):
+                    quoted.add((section, key))
                 pf.lines[(section, key)] = lineno
                 continue
         row = _numbers(s)
@@ -327,12 +331,18 @@ def read_property_file(path: str | os.PathLike) -> PropertyFile:
                           "row of numbers")
     if not pf.sections:
         raise FormatError(f"{p}: no [SECTION] found; not a tyre property file")
+    # MF files as vendors and tools export them leave optional entries empty (teasit's library writes
+    # 'WIDTH =', 'FZMIN =', 'INFLPRES ='): there an empty value outside the coefficient sections means 'not
+    # given' (its default, or no declared range), and a required one is named by the MF reader.  A quoted
+    # text in a coefficient section is a setting (Chrono's MAN 5t file has CONTACT_MODEL = '3D_ENVELOPING'
+    # under a commented-out section header), not a malformed number.
+    mf = pf.family in ("MF52", "MF61")
     for (sec, key), lineno in pf.lines.items():
         if sec.endswith(_NUMERIC_SECTION_SUFFIXES) or sec in _NUMERIC_SECTIONS:
             v = pf.sections[sec][key]
-            if v is None:
+            if v is None and not (mf and not sec.endswith("_COEFFICIENTS")):
                 raise FormatError(f"{p}:{lineno}: {key} in [{sec}] has no value; a number is required")
-            if isinstance(v, str) and sec.endswith("_COEFFICIENTS"):
+            if isinstance(v, str) and sec.endswith("_COEFFICIENTS") and (sec, key) not in quoted:
                 raise FormatError(f"{p}:{lineno}: {key} = {v[:40]!r} in [{sec}] is not a number")
     return pf
 
@@ -345,6 +355,8 @@ def _ranges(pf: PropertyFile) -> dict[str, tuple[float, float]]:
     for key, lo, hi, fac in (("fz", "FZMIN", "FZMAX", F), ("slip_angle", "ALPMIN", "ALPMAX", A),
                              ("camber", "CAMMIN", "CAMMAX", A), ("slip_ratio", "KPUMIN", "KPUMAX", 1.0),
                              ("pressure", "PRESMIN", "PRESMAX", P)):
+        if pf.get(lo) is None or pf.get(hi) is None:  # absent, or left empty in an MF file: no declared range
+            continue
         a, b = pf.number(lo, factor=fac), pf.number(hi, factor=fac)
         if a is not None and b is not None:
             if not a <= b:
@@ -469,8 +481,10 @@ def mf_from_property_file(pf: PropertyFile) -> MFTyre:
     Every numeric entry becomes a parameter under its upper-case key; the
     dimensional ones (radius, loads, pressures, speeds, ranges, stiffnesses)
     are converted to SI through the file's ``[UNITS]``.  Empty values in
-    coefficient, dimension and range sections have already been refused by
-    :func:`read_property_file`.  Missing required coefficients are listed in
+    coefficient sections have already been refused by :func:`read_property_file`;
+    an empty optional entry elsewhere (``WIDTH =``, ``FZMIN =``) is not given,
+    and an empty required one (``FNOMIN =``) is an error naming its line.
+    Missing required coefficients are listed in
     ``missing`` (not guessed).
     """
     params: dict[str, float] = {}
@@ -485,6 +499,9 @@ def mf_from_property_file(pf: PropertyFile) -> MFTyre:
             if key in params:  # the same key in two sections: the first one counts, as in Adams
                 continue
             params[key] = float(v) * _mf_factor(pf, _MF_UNITS.get(key))
+    for req in (k for part in REQUIRED_MF.values() for k in part):
+        if req not in params and any(entries.get(req, 0) is None for entries in pf.sections.values()):
+            raise FormatError(f"{pf.where(req)}: {req} has no value; a number is required")
     family = pf.family
     fittyp = pf.fittyp
     version = {62: "6.2", 61: "6.1"}.get(fittyp, "6.1" if family == "MF61" else "5.2")

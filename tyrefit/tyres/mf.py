@@ -197,7 +197,10 @@ class MFTyre(Tyre):
 
         Conditions (Pacejka 2012, 4.E11-4.E25, 4.E41-4.E44), over the declared
         load, camber and pressure ranges: Cx = PCX1 LCX > 0, Cy = PCY1 LCY > 0,
-        Ct = QCZ1 > 0, mu_x > 0, mu_y > 0, PKY2 != 0; at the nominal point
+        Ct = QCZ1 > 0, mu_x and mu_y non-zero and of one sign, PKY2 != 0
+        (D = mu Fz may be negative: B = K / (C D) takes its sign, so the
+        slope and the peak |D| are unchanged -- MF-Tool 5.0 files such as
+        Goodyear's 335/65R22.5 in Project Chrono have PDY1 < 0 with PKY1 < 0); at the nominal point
         (FNOMIN, zero camber, nominal pressure): Ex <= 1 and Ey <= 1 for both
         slip signs, Kxk > 0, Kya != 0, Et <= 1; every required coefficient
         given (:attr:`missing`); then finite forces on a grid over the ranges
@@ -236,7 +239,7 @@ class MFTyre(Tyre):
         everywhere, nominal_tests = [], []
         if self.has_longitudinal:
             everywhere += [("longitudinal", "Cx = PCX1 LCX <= 0", ~(f["Cx"] > 0)),
-                           ("longitudinal", "mu_x <= 0 (PDX1, PDX2)", ~(f["mux"] > 0))]
+                           ("longitudinal", "mu_x = 0 or changes sign (PDX1, PDX2)", _not_one_sign(f["mux"]))]
             nominal_tests += [("longitudinal", "Ex > 1 (PEX1..PEX4)", ~((f0["Ex+"] <= 1) & (f0["Ex-"] <= 1))),
                               ("longitudinal", "Kxk <= 0 (PKX1..PKX3)", ~(f0["Kxk"] > 0))]
             if not hard:
@@ -244,7 +247,7 @@ class MFTyre(Tyre):
         if self.has_lateral:
             ky = f0["Kya"]
             everywhere += [("lateral", "Cy = PCY1 LCY <= 0", ~(f["Cy"] > 0)),
-                           ("lateral", "mu_y <= 0 (PDY1, PDY2)", ~(f["muy"] > 0))]
+                           ("lateral", "mu_y = 0 or changes sign (PDY1, PDY2)", _not_one_sign(f["muy"]))]
             nominal_tests += [("lateral", "Ey > 1 (PEY1..PEY5)", ~((f0["Ey+"] <= 1) & (f0["Ey-"] <= 1))),
                               ("lateral", "Kya = 0 or undefined (PKY1, PKY2)", ~(np.abs(ky) > 0))]
             if not hard:
@@ -273,3 +276,14 @@ class MFTyre(Tyre):
 
     def coefficient_table(self) -> list[dict]:
         return [{"name": k, "value": v} for k, v in self.params.items()]
+
+
+def _not_one_sign(mu: np.ndarray) -> np.ndarray:
+    """True where the friction factor is zero, not finite, or of the other sign than at most points.
+
+    The Magic Formula's peak is |D| = |mu| Fz whatever the sign of D (B = K / (C D)
+    follows it), so only a zero or a sign change inside the range breaks the curve.
+    """
+    mu = np.asarray(mu, dtype=float)
+    sign = 1.0 if np.sum(mu > 0) >= np.sum(mu < 0) else -1.0
+    return ~(sign * mu > 0)

@@ -1,0 +1,158 @@
+"""Real vendor property files and the layouts real tools export, read and evaluated as a user would.
+
+Each test is named for the real-world case that once failed (see ``tests/data/vendor_SOURCES.md``
+for the files).  Physics is checked with physics: the ISO-W sign of Fy and Mz at a small positive
+slip angle, |F|/Fz of a road tyre, Fx growing with the slip ratio.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tyrefit.errors import FormatError
+from tyrefit.io.tir import read_property_file, read_tyre
+
+DATA = Path(__file__).parent / "data"
+FEDA = DATA / "vendor_feda_335_65R22_5_40psi.tir"
+GENERIC = DATA / "ref_Generic_Pac02Tire.tir"
+
+
+def _sound_road_tyre(t, fz):
+    """Fy < 0 and Mz > 0 at +2 deg (ISO-W), 0.3 < |Fy|/Fz and |Fx|/Fz < 2, Fx rising with slip ratio."""
+    f = t.forces(fz, slip_angle=np.radians(2.0))
+    assert f["fy"] < 0 and f["mz"] > 0, f
+    peak_y = np.max(np.abs(t.forces(fz, slip_angle=np.radians(np.linspace(0, 15, 31)))["fy"])) / fz
+    fx = t.forces(fz, slip_ratio=np.array([0.0, 0.01, 0.02, 0.04]))["fx"]
+    assert np.all(np.diff(fx) > 0), fx
+    peak_x = np.max(np.abs(t.forces(fz, slip_ratio=np.linspace(0, 0.5, 51))["fx"])) / fz
+    assert 0.3 < peak_y < 2.0 and 0.3 < peak_x < 2.0, (peak_y, peak_x)
+
+
+def test_goodyear_mf05_with_negative_pdy1_is_not_refused():
+    """MF-Tool 5.0 writes D = mu Fz < 0 with PKY1 < 0 (B = K/(C D) > 0): a normal tyre, not an unphysical one."""
+    t = read_tyre(FEDA)
+    assert t.family == "MF52" and t.params["PDY1"] < 0
+    assert t.check() == [], t.check()
+    _sound_road_tyre(t, 16929.0)
+    # the magnitude is the file's: |Fy| peak / Fz at FNOMIN near |PDY1| (PDY3 camber term off at zero camber)
+    fy = t.forces(16929.0, slip_angle=np.radians(np.linspace(0, 15, 151)))["fy"]
+    assert np.max(np.abs(fy)) / 16929.0 == pytest.approx(0.70977, rel=0.05)
+
+
+def test_mf_check_refuses_friction_that_changes_sign_inside_the_range():
+    t = read_tyre(FEDA)
+    t.params["PDY2"] = 2.0  # mu_y = -0.71 + 2 dfz crosses zero inside FZMIN..FZMAX
+    assert any("mu_y = 0 or changes sign" in p for p in t.check())
+
+
+def test_reads_pac2002_with_contact_model_text_under_a_commented_section(tmp_path):
+    """Project Chrono's MAN 5t file (data/vehicle/MAN_5t/tire/MAN_5t_pacejka.tir) ends with a commented-out
+    ``![CONTACT_COEFFICIENTS]`` header and ``CONTACT_MODEL = '3D_ENVELOPING'``, which lands in
+    [ALIGNING_COEFFICIENTS]: a quoted setting, not a malformed coefficient."""
+    tail = ("$-----------------------------------------------contact patch parameters\n"
+            "! 3D contact can be switched on by deleting the comment ! character\n"
+            "! When no further coefficients are specified, default values will be taken\n"
+            "![CONTACT_COEFFICIENTS]\nCONTACT_MODEL            = '3D_ENVELOPING'\n\n")
+    p = tmp_path / "man5t_like.tir"
+    p.write_text(GENERIC.read_text() + tail)
+    t = read_tyre(p)
+    assert t.check() == []
+    assert read_property_file(p).get("CONTACT_MODEL", section="ALIGNING_COEFFICIENTS") == "3D_ENVELOPING"
+    # an unquoted word where a coefficient belongs is still refused, naming the line
+    bad = tmp_path / "bad.tir"
+    bad.write_text(GENERIC.read_text().replace("QBZ1                       = 5.8978", "QBZ1 = five", 1))
+    with pytest.raises(FormatError, match=r"bad.tir:\d+: QBZ1 = 'five' .* is not a number"):
+        read_property_file(bad)
+
+
+#: the layout of teasit's magic-formula-tyre-library exports (doc/examples/fsae-ttc-data/fsaettc_obfuscated.tir):
+#: every optional entry written with an empty value
+_EMPTY_OPTIONALS = """[MDI_HEADER]
+FILE_TYPE                    = 'tir'
+FILE_VERSION                 = 3
+[UNITS]
+LENGTH                       = 'meter'
+FORCE                        = 'newton'
+ANGLE                        = 'radians'
+[MODEL]
+FITTYP                       = 61
+LONGVL                       = 10
+VXLOW                        = 1
+ROAD_INCREMENT               =
+[DIMENSION]
+UNLOADED_RADIUS              = 0.2025
+WIDTH                        =
+RIM_RADIUS                   =
+[OPERATING_CONDITIONS]
+INFLPRES                     =
+NOMPRES                      = 97000
+[INERTIA]
+MASS                         =
+[VERTICAL]
+FNOMIN                       = 2750
+VERTICAL_STIFFNESS           =
+[VERTICAL_FORCE_RANGE]
+FZMIN                        =
+FZMAX                        =
+[SLIP_ANGLE_RANGE]
+ALPMIN                       =
+ALPMAX                       =
+[LONGITUDINAL_COEFFICIENTS]
+PCX1                         = 1.5
+PDX1                         = 1.1004
+PDX2                         = -0.36199
+PKX1                         = 16.405
+PKX3                         = -0.51846
+[LATERAL_COEFFICIENTS]
+PCY1                         = 1.5
+PDY1                         = 1.0798
+PDY2                         = -0.12631
+PEY1                         = 0.63909
+PKY1                         = -18.9867
+PKY2                         = 1.6262
+PKY4                         = 2
+[ALIGNING_COEFFICIENTS]
+QBZ1                         = 10
+QCZ1                         = 1.1
+QDZ1                         = 0.12
+"""
+
+
+def test_reads_mf61_export_with_empty_optional_values(tmp_path):
+    p = tmp_path / "fsaettc_like.tir"
+    p.write_text(_EMPTY_OPTIONALS)
+    t = read_tyre(p)
+    assert t.family == "MF61" and t.check() == []
+    assert "WIDTH" not in t.params and "fz" not in t.ranges  # empty means not given
+    assert t.forces(2750.0, pressure=None)["fy"] == pytest.approx(0.0, abs=2750 * 0.06)  # offsets only
+    _sound_road_tyre(t, 2750.0)
+
+
+@pytest.mark.parametrize("edit,match", [
+    (("FNOMIN                       = 2750", "FNOMIN                       ="), r":\d+: FNOMIN has no value"),
+    (("PDY2                         = -0.12631", "PDY2                         ="),
+     r":\d+: PDY2 in \[LATERAL_COEFFICIENTS\] has no value"),
+])
+def test_mf61_export_with_an_empty_required_value_names_the_line(tmp_path, edit, match):
+    p = tmp_path / "empty_required.tir"
+    p.write_text(_EMPTY_OPTIONALS.replace(*edit))
+    with pytest.raises(FormatError, match=match):
+        read_tyre(p)
+
+
+def test_inspect_and_eval_of_the_goodyear_file(tmp_path, capsys):
+    from tyrefit.cli import main
+
+    assert main(["inspect", str(FEDA)]) == 0
+    out = capsys.readouterr().out
+    assert "family MF52" in out and "not physical" not in out
+    pts = tmp_path / "p.csv"
+    pts.write_text("fz [kN],slip_angle [deg],slip_ratio [%]\n16.929,2,0\n16.929,0,5\n")
+    assert main(["eval", str(FEDA), "--points", str(pts), "--out", str(tmp_path / "f.csv")]) == 0
+    import pandas as pd
+
+    f = pd.read_csv(tmp_path / "f.csv")
+    assert f["fy [N]"][0] < 0 and f["fx [N]"][1] > 0
