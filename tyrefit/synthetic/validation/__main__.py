@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from .cases import LAYOUTS, NOISE_MODELS, SIGMA
-from .runner import (MUTATIONS, PLAN, base_fit, oracle, check_targets, fingerprint, git_commit, markdown, plan_cases, rates,
+from .runner import (MUTATIONS, PLAN, base_fit, oracle, summary_markdown, check_targets, fingerprint, git_commit, markdown, plan_cases, rates,
                      run, targets_markdown)
 from .truth import EFFECT_FAMILY, EFFECTS
 
@@ -67,6 +67,8 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     (out / "rates.json").write_text(json.dumps(res, indent=1, default=str))
     md = markdown(res, {k: v for k, v in meta.items() if not isinstance(v, dict)})
+    head, sep, table = md.partition("| layout | noise |")
+    md = head + "## Summary\n\n" + summary_markdown(res) + "\n## By layout, noise model and truth\n\n" + sep + table
     if checks:
         md += "\nIssue 11 targets (one sweep per load):\n\n" + targets_markdown(checks)
     if args.base_fit:

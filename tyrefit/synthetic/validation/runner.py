@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import inspect
 import json
 import math
 import os
@@ -36,7 +37,7 @@ import numpy as np
 from .cases import LAYOUTS, NOISE_MODELS, SIGMA, applicable, make_case
 from .truth import EFFECT_FAMILY, EFFECTS
 
-__all__ = ["oracle", "check_targets", "MUTATIONS", "mutated", "PLAN", "plan_cases", "run_case", "run", "rates", "markdown", "fingerprint", "wilson", "base_fit",
+__all__ = ["summary_markdown", "oracle", "check_targets", "MUTATIONS", "mutated", "PLAN", "plan_cases", "run_case", "run", "rates", "markdown", "fingerprint", "wilson", "base_fit",
            "TARGETS"]
 
 #: issue 11's targets on the one-sweep-per-load layout
@@ -57,12 +58,20 @@ _PKG = Path(__file__).resolve().parents[2]
 
 
 def fingerprint() -> str:
-    """Hash of the code that scores a case: tyrefit/diagnose, tyrefit/effects, this package, the PAC89 model."""
+    """Hash of the code a case's score depends on.
+
+    The engine (tyrefit/diagnose, tyrefit/effects, the PAC89 model), the
+    generators (``truth.py``, ``cases.py``) and the scoring (:func:`run_case`);
+    not the tables or the command line, so editing those keeps the cache.
+    """
     h = hashlib.sha1()
-    files = [p for sub in ("diagnose", "effects", "synthetic/validation") for p in sorted((_PKG / sub).rglob("*.py"))]
-    for p in files + sorted((_PKG / "models").glob("pac89*.py")):
+    here = Path(__file__).resolve().parent
+    files = [p for sub in ("diagnose", "effects") for p in sorted((_PKG / sub).rglob("*.py"))]
+    files += sorted((_PKG / "models").glob("pac89*.py")) + [here / "truth.py", here / "cases.py"]
+    for p in files:
         h.update(p.relative_to(_PKG).as_posix().encode())
         h.update(p.read_bytes())
+    h.update(inspect.getsource(_SCORING).encode())
     return h.hexdigest()[:12]
 
 
@@ -222,6 +231,10 @@ def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_
         # the right answer where the layout cannot identify the effect (shifts on one-sided sweeps)
         row["said_untestable"] = bool(why) and all(str(c.status).startswith("not testable") for c in why)
     return row
+
+
+#: the scoring function as defined here (the fingerprint reads its source even when a test patches run_case)
+_SCORING = run_case
 
 
 def _family(effect_id: str) -> str:
@@ -435,6 +448,39 @@ def markdown(res: dict, meta: dict | None = None) -> str:
     errs = sum(g["errors"] for g in res["groups"])
     if errs:
         lines.append(f"\n{errs} cases raised an error in diagnose (counted as misses / false alarms).")
+    return "\n".join(lines) + "\n"
+
+
+def summary_markdown(res: dict) -> str:
+    """Compact table: one row per layout x truth, one column per noise model.
+
+    Effect rows: right family first in % (n) and the median held-out RMSE after
+    it / true sigma; null rows: false alarms in % (n) and the upper end of the
+    Wilson 95 % interval.
+    """
+    cell: dict[tuple, dict] = {}
+    for g in res["groups"]:
+        cell.setdefault((g["layout"], g["effect"]), {})[g["noise"]] = g
+    order = {k: i for i, k in enumerate(LAYOUTS)}
+    eff_order = {k: i for i, k in enumerate(["null", *EFFECTS])}
+    lines = ["| layout | truth | " + " | ".join(NOISE_MODELS) + " |", "|---|---|" + "---|" * len(NOISE_MODELS)]
+    for (lay, eff), byn in sorted(cell.items(), key=lambda kv: (order.get(kv[0][0], 99), eff_order.get(kv[0][1], 99))):
+        cols = []
+        for nm in NOISE_MODELS:
+            g = byn.get(nm)
+            if g is None:
+                cols.append("")
+            elif eff == "null":
+                cols.append(f"{100 * g['false_alarm']:.1f} % false alarms (n {g['n']}, CI to "
+                            f"{100 * g['false_alarm_ci'][1]:.1f} %)")
+            else:
+                txt = f"{100 * g['right_first']:.0f} % right first (n {g['n']})"
+                if "ratio_first_median" in g:
+                    txt += f", {g['ratio_first_median']:.2f} sigma"
+                if g.get("said_untestable"):
+                    txt += f"; says not testable {100 * g['said_untestable']:.0f} %"
+                cols.append(txt)
+        lines.append(f"| {lay} | {eff} | " + " | ".join(cols) + " |")
     return "\n".join(lines) + "\n"
 
 
