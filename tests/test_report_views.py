@@ -331,3 +331,31 @@ def test_diagnose_views_show_every_pressure_and_camber(fsae45):
     got = [re.fullmatch(r"camber (-?\d+\.\d)°, pressure (\d+) kPa", t).groups() for t in titles]
     assert [c for c, _ in got] == ["0.0", "2.0", "4.0"] * 3
     np.testing.assert_allclose([float(p) for _, p in got], np.repeat([70.2, 83.5, 98.0], 3), atol=1.0)
+
+
+def test_drive_brake_sweeps_left_out_of_the_fit_are_drawn_too():
+    """Combined-slip sweeps (slip angle held at -3 deg) are not fitted by PAC89 but still drawn, titled."""
+    from tyrefit.fitting import fit_pac89
+    from tyrefit.fitting.result import unfitted_figures
+
+    rows, run = [], 0
+    for sa in (0.0, -3.0):
+        for c in (0.0, 2.0):
+            for fz in (700.0, 1500.0):
+                s = np.linspace(-0.2, 0.2, 60)
+                rows.append(pd.DataFrame({"run": run, "fz": fz, "slip_ratio": s, "slip_angle": math.radians(sa),
+                                          "camber": math.radians(c), "fx": pac89.longitudinal_force(EXAMPLE, fz, s)
+                                          * (1 - 0.1 * abs(sa) / 3)}))
+                run += 1
+    df = pd.concat(rows, ignore_index=True)
+    res = fit_pac89(df)
+    fitted = set(res._parts["longitudinal"].data.df["run"])
+    left = sorted(set(range(run)) - fitted)
+    assert left == [4, 5, 6, 7]  # the -3 deg sweeps
+    figs = unfitted_figures(df, left)
+    panels = _panels(figs)
+    assert sorted(ax.get_title() for ax in panels) == ["camber 0.0°", "camber 2.0°"]
+    assert "slip angle -3.0°" in figs[0]._suptitle.get_text()  # common to every panel: said once, on top
+    drawn = sorted(int(ln.get_gid().split()[-1]) for ax in panels for ln in ax.get_lines())
+    assert drawn == left
+    assert "4 sweeps NOT FITTED" in figs[0]._suptitle.get_text()

@@ -211,6 +211,7 @@ def _report(result, extras, args, out: Path, rdir: Path | None = None, title: st
         fig.tight_layout()
         r.figure(fig, "Both fits over the data (camber level nearest zero)")
     result._report_blocks(r, figures=True)
+    _unfitted_section(r, result, extras.get("dataset"))
     if extras.get("static") is not None and hasattr(extras["static"], "report_section"):
         try:
             extras["static"].report_section(r, model=result.tyre)
@@ -409,3 +410,23 @@ def _by_figure(table, channel: str, ax=None):
     ax.grid(axis="y", alpha=0.3)
     ax.figure.tight_layout()
     return ax.figure
+
+
+def _unfitted_section(r, result, ds) -> None:
+    """Report section drawing the sweeps of the file that no fitted part used (combined slip for PAC89)."""
+    if ds is None or getattr(ds, "kind", "") not in ("slip_angle", "slip_ratio") or "run" not in ds.df:
+        return
+    from ..fitting.result import unfitted_figures
+
+    used = set()
+    for part in result.parts:
+        used |= set(result._parts[part].data.df["run"].unique().tolist())
+    left = sorted(set(ds.df["run"].unique().tolist()) - used)
+    if not left:
+        return
+    r.h2(f"Sweeps not fitted ({len(left)} of {ds.df['run'].nunique()})")
+    r.p(f"{len(left)} sweeps of {Path(str(ds.source)).name or 'the data'} are not in the fit (see the notes: "
+        "PAC89 has pure-slip curves only, so combined-slip sweeps are left out). Their data, per condition "
+        "level:", "warn")
+    for fig in unfitted_figures(ds.df, left):
+        r.figure(fig, "Sweeps not fitted: data only, one panel per condition level")

@@ -580,6 +580,63 @@ class FitResult:
         return fig
 
 
+def unfitted_figures(df: pd.DataFrame, runs, max_rows: int = 4) -> list:
+    """Data-only panels of sweeps a fit left out (combined slip for PAC89, say): one per condition level.
+
+    ``df``: the data read (canonical SI columns with ``run``); ``runs``: the sweeps to draw.  Slip-ratio
+    sweeps draw Fx against slip ratio, slip-angle sweeps Fy against slip angle; panels come from
+    :func:`tyrefit.io.facets.facet_sweeps` (pressure, speed, slip angle, camber) and carry their
+    conditions in the title.  Returns a list of Figures (empty when there is nothing to draw).
+    """
+    import matplotlib as mpl
+    from matplotlib.figure import Figure
+
+    from ..io.facets import describe_constant, facet_sweeps, format_load, pages
+
+    sub = df[df["run"].isin(list(runs))]
+    if sub.empty:
+        return []
+    ratio = "slip_ratio" in sub and "fx" in sub and sub.groupby("run")["slip_ratio"].agg(np.ptp).median() > 0.01
+    x, y, xl, yl, xs = (("slip_ratio", "fx", "slip ratio [%]", "Fx [N]", 100.0) if ratio else
+                        ("slip_angle", "fy", "slip angle [deg]", "Fy [N]", _RAD_TO_DEG))
+    if x not in sub or y not in sub:
+        return []
+    ch = ("pressure", "speed", "slip_angle", "camber") if ratio else ("pressure", "speed", "camber")
+    facets, info = facet_sweeps(sub, ch)
+    lo, hi = float(sub["fz"].min()), float(sub["fz"].max())
+    cmap = mpl.colormaps["viridis"]
+    ncols = max(f.col for f in facets) + 1
+    figs = []
+    for page in pages(facets, max_rows=max_rows):
+        rows = sorted({f.row for f in page})
+        fig = Figure(figsize=(4.2 * ncols, 3.4 * len(rows) + 0.7))
+        axes = fig.subplots(len(rows), ncols, squeeze=False, sharex=True, sharey=True)
+        used = set()
+        for f in page:
+            ax = axes[rows.index(f.row)][f.col]
+            used.add((rows.index(f.row), f.col))
+            for run, fzm in zip(f.runs, f.loads):
+                g = sub[sub["run"] == run]
+                c = cmap(0.85 * (fzm - lo) / (hi - lo)) if hi > lo else cmap(0.3)
+                ax.plot(g[x] * xs, g[y], ".", ms=3, color=c, label=format_load(fzm), gid=f"data run {run}")
+            ax.set_title(f.title, fontsize=9)
+            ax.set_xlabel(xl)
+            ax.set_ylabel(yl)
+            ax.grid(alpha=0.3)
+            if len(f.runs) <= 12:
+                ax.legend(fontsize=7, title="Fz", title_fontsize=7, markerscale=3)
+        for i in range(len(rows)):
+            for j in range(ncols):
+                if (i, j) not in used:
+                    axes[i][j].set_visible(False)
+        const = describe_constant(info)
+        fig.suptitle(f"{len(set(sub['run']))} sweeps NOT FITTED (data only, no model line)"
+                     + (f"; all at {const}" if const else ""), fontsize=10)
+        fig.tight_layout()
+        figs.append(fig)
+    return figs
+
+
 #: the one noise-floor definition of fit, diagnose and compare
 NOISE_FLOOR_DEFINITION = ("pooled RMSE of a smooth curve (cubic spline, knots every 1.5 deg of slip angle / 0.03 "
                           "slip ratio, plus a load-jitter term) through each sweep on its own "
