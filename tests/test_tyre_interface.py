@@ -369,3 +369,21 @@ def test_sim_refuses_bad_tyre_files_in_one_line(tmp_path, capsys, edit, match):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and match in err[0], err
     assert not js.exists()
+
+
+@pytest.mark.parametrize("key,match", [("FNOMIN", "FNOMIN = 0 must be positive"), ("LONGVL", "LONGVL = 0 must be"),
+                                       ("NOMPRES", "NOMPRES = 0 must be")])
+def test_mf_nominal_values_must_be_positive(tmp_path, key, match):
+    lines = [(f"{key} = 0" if ln.split("=")[0].strip().upper() == key else ln) for ln in MF61.read_text().splitlines()]
+    p = tmp_path / "z.tir"
+    p.write_text("\n".join(lines) + "\n")
+    problems = read_tyre(p).check()
+    assert any(match in q for q in problems), problems
+    assert all("not finite" not in q for q in problems)  # said plainly, before any evaluation
+
+
+def test_unreadable_fittyp_is_said(tmp_path):
+    p = tmp_path / "f.tir"
+    p.write_text("[MODEL]\nFITTYP = abc\n[LATERAL_COEFFICIENTS]\nPCY1 = 1\n")
+    with pytest.raises(FormatError, match="FITTYP abc"):
+        read_tyre(p)

@@ -88,6 +88,9 @@ class PropertyFile:
             f = self.fittyp
             if f is not None:
                 return {61: "MF61", 62: "MF62"}.get(f, f"FITTYP {f}")
+            raw = self.get("FITTYP")
+            if raw is not None and str(raw).strip() != "":
+                return f"FITTYP {str(raw)[:20]}"
         return str(v).strip().upper() if v is not None else ""
 
     @property
@@ -113,6 +116,9 @@ class PropertyFile:
         if declared == "PAC89":
             return "PAC89"
         f = self.fittyp
+        raw = self.get("FITTYP")
+        if f is None and raw is not None and str(raw).strip() != "":
+            return ""  # FITTYP given but not a number: the file does not say what it is
         if f in _FITTYP_FAMILY:
             return _FITTYP_FAMILY[f]
         if declared in _FORMAT_FAMILY:

@@ -209,6 +209,11 @@ class MFTyre(Tyre):
         reach far beyond the measured loads) is reported by :meth:`warnings`.
         """
         problems = [f"required coefficient {k} is missing" for k in self.missing]
+        positive = ["FNOMIN", "UNLOADED_RADIUS", "LONGVL"] + (["NOMPRES"] if self.family == "MF61" else [])
+        problems += [f"{k} = {self.params[k]:g} must be positive (the MF equations divide by it)"
+                     for k in positive if k in self.params and not self.params[k] > 0]
+        if problems:
+            return problems
         problems += self._factor_problems(n, hard=True)
         if not problems:
             problems += self._finite_problems(n)
