@@ -761,8 +761,8 @@ def _fit_warnings(coefs: pd.DataFrame, stats: dict, merged: dict) -> list[str]:
     for part, s in stats.items():
         nf = s["noise_floor"]
         if np.isfinite(nf) and nf > 0 and s["rmse"] > FLOOR_RATIO_WARN * nf:
-            out.append(f"{part}: RMSE {s['rmse']:.3g} {s['unit']} is {s['rmse'] / nf:.1f} x the within-sweep noise "
-                       f"floor {nf:.3g} {s['unit']}: the model does not reach the noise (structure left in the "
+            out.append(f"{part}: RMSE {s['rmse']:.4g} {s['unit']} is {s['rmse'] / nf:.1f} x the within-sweep noise "
+                       f"floor {nf:.4g} {s['unit']}: the model does not reach the noise (structure left in the "
                        "residuals; see the panels)")
     for c, lv in merged.items():
         out.append(_merged_text(c, lv))
