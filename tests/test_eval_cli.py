@@ -140,3 +140,29 @@ def test_eval_lateral_only_tyre_leaves_fx_empty(tmp_path, capsys):
     df = pd.read_csv(out)
     assert np.isnan(df["fx [N]"][0]) and np.isfinite(df["fy [N]"][0])
     assert "no longitudinal model" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("text,match", [
+    ("fz [N],slip_angle [deg]\nnan,3\n", "'fz \\[N\\]': nan is not finite"),
+    ("fz [N],slip_angle [deg]\n4000,inf\n", "inf is not finite"),
+    ("fz [N],slip_angle [deg]\n4000,95\n4000,-180\n", "95 is outside -90..90 deg .* \\(2 such rows\\)"),
+    ("fz [N],slip_ratio [-]\n4000,-1.5\n", "outside -1"),
+    ("fz [N],slip_angle [deg],speed [km/h]\n4000,1,-20\n", "forward speeds"),
+    ("fz [N],slip_angle [deg],pressure [bar]\n4000,1,0\n", "positive pressures"),
+])
+def test_eval_points_outside_their_domain(tmp_path, capsys, text, match):
+    import re
+
+    pts = _points(tmp_path, text)
+    out = tmp_path / "f.csv"
+    assert main(["eval", str(PAC02), "--points", str(pts), "--out", str(out)]) == 2
+    assert re.search(match, _err_line(capsys))
+    assert not out.exists()
+
+
+def test_eval_wheel_off_the_ground_gives_zero(tmp_path):
+    pts = _points(tmp_path, "fz [N],slip_angle [deg]\n-500,3\n0,3\n")
+    out = tmp_path / "f.csv"
+    assert main(["eval", str(PAC02), "--points", str(pts), "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert (df[["fx [N]", "fy [N]", "mz [N*m]", "mx [N*m]", "my [N*m]"]].to_numpy() == 0).all()

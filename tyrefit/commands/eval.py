@@ -7,7 +7,10 @@ interface, in one vectorised call.
 
 Points: ``fz`` (required), ``slip_angle``, ``slip_ratio``, ``camber``,
 ``pressure``, ``speed``, any units the glossary accepts (``fz [kN]``,
-``slip_angle [deg]``, ``pressure [bar]``, ``speed [km/h]``), ISO-W signs.  A
+``slip_angle [deg]``, ``pressure [bar]``, ``speed [km/h]``), ISO-W signs.
+Every value must be finite and in its domain (slip angle and camber within
++/-90 deg, slip ratio >= -1, pressure > 0, speed >= 0); a load <= 0 is a wheel
+off the ground and gives zero forces.  A
 missing slip or camber column is 0; a missing pressure or speed is the tyre's
 nominal value (INFLPRES / NOMPRES, LONGVL).  The output repeats every input
 column as read and adds ``fx [N]``, ``fy [N]``, ``mz [N*m]`` and, where the
@@ -69,12 +72,26 @@ def read_points(path: str | Path):
                           "force or mass unit)")
     if "slip_angle" not in si and "slip_ratio" not in si:
         raise ColumnError(f"{p}: no 'slip_angle [deg]' or 'slip_ratio [-]' column; give the slip of each point")
-    bad = ~np.isfinite(si["fz"])
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise DataError(f"{p}: line {t.lines[i]}, column '{t.headers.get('fz', 'fz')}': {si['fz'][i]!r} is not a "
-                        "finite load")
+    for name, values in si.items():
+        col = "load" if name == "fz" and "fz" not in t.headers else name
+        lo, hi, what = _DOMAIN[name]
+        bad = ~(np.isfinite(values) & (values >= lo) & (values <= hi))
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raw = t.values[col][i]
+            raise DataError(f"{p}: line {t.lines[i]}, column '{t.headers.get(col, col)}': {float(raw):g} is "
+                            f"{'not finite' if not np.isfinite(values[i]) else 'outside ' + what}"
+                            + (f" ({int(bad.sum())} such rows)" if bad.sum() > 1 else ""))
     return si, t
+
+
+#: the domain of each point column (SI): what a rolling tyre can be asked
+_DOMAIN = {"fz": (-np.inf, np.inf, "any load"),
+           "slip_angle": (-np.pi / 2, np.pi / 2, "-90..90 deg (a slip angle beyond 90 deg rolls backwards)"),
+           "slip_ratio": (-1.0, np.inf, "-1 (locked wheel) and above"),
+           "camber": (-np.pi / 2, np.pi / 2, "-90..90 deg"),
+           "pressure": (np.finfo(float).tiny, np.inf, "positive pressures"),
+           "speed": (0.0, np.inf, "forward speeds >= 0")}
 
 
 def evaluate_points(tyre, si: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], list[str]]:
