@@ -230,3 +230,12 @@ def test_inspect_json_declared_format_and_family(tmp_path, name, fmt, family):
     assert doc["missing"] == [] and doc["problems"] == []
     if family == "PAC89":
         assert "clamps camber to +/-3 deg" in doc["chrono_limits"]
+
+
+def test_devices_and_folders_are_refused_not_read(tmp_path):
+    from tyrefit.errors import TyrefitError
+
+    (tmp_path / "folder.json").mkdir()
+    for bad in ("/dev/zero", tmp_path, tmp_path / "folder.json"):  # .json goes to the Chrono reader
+        with pytest.raises(TyrefitError, match="not a regular file|is a folder"):
+            read_tyre(bad)

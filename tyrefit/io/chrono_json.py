@@ -29,6 +29,7 @@ from pathlib import Path
 from ..errors import FormatError, ModelError
 from ..models import pac89
 from ..tyres.pac89 import Pac89Tyre
+from .inputs import read_input_bytes
 from .outputs import write_text
 
 __all__ = ["read_chrono_json", "write_chrono_json", "chrono_dict"]
@@ -69,10 +70,7 @@ def _finite(v, p: Path, what: str) -> float:
 def read_chrono_json(path: str | os.PathLike) -> Pac89Tyre:
     """Read Chrono's PAC89 JSON into a :class:`Pac89Tyre`."""
     p = Path(path)
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
+    raw = read_input_bytes(p, "a Chrono tyre JSON file")  # no FIFO, device or oversized file
     try:
         doc = json.loads(_strip_comments(raw.decode("utf-8-sig")))
     except (ValueError, RecursionError) as exc:  # bad UTF-8, bad JSON, >4300-digit integers, deep nesting

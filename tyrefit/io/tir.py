@@ -25,6 +25,7 @@ from ..models import pac89
 from ..tyres.base import Tyre
 from ..tyres.mf import REQUIRED_MF, MFTyre
 from ..tyres.pac89 import REQUIRED, Pac89Tyre
+from .inputs import read_input_bytes
 from .outputs import write_text
 
 __all__ = ["PropertyFile", "read_property_file", "read_tir", "read_tyre", "write_tir", "format_tir",
@@ -267,10 +268,7 @@ def read_property_file(path: str | os.PathLike) -> PropertyFile:
         names the file line.
     """
     p = Path(path)
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
+    raw = read_input_bytes(p, "a tyre property file (.tir)")  # no FIFO, device or oversized file
     if raw.startswith(b"\xef\xbb\xbf"):
         raw = raw[3:]
     if not raw.strip():
