@@ -156,3 +156,37 @@ def test_inspect_and_eval_of_the_goodyear_file(tmp_path, capsys):
 
     f = pd.read_csv(tmp_path / "f.csv")
     assert f["fy [N]"][0] < 0 and f["fx [N]"][1] > 0
+
+
+# --------------------------------------------------------------------------- eval's output CSV
+
+def test_eval_csv_is_round_trip_exact_and_matches_pandas_text():
+    """csv_text writes what pandas' round-trip default writes (shortest repr, NaN empty, ints as ints)."""
+    import io
+
+    import pandas as pd
+
+    from tyrefit.commands.eval import csv_text
+
+    rng = np.random.default_rng(3)
+    x = rng.normal(0.0, 3000.0, 500) * 10.0 ** rng.integers(-12, 12, 500)
+    x[[3, 7]] = np.nan
+    df = pd.DataFrame({"fz [N]": rng.integers(100, 9000, 500), "odd, name \"q\"": x, "flag": x > 0,
+                       "fy [N]": -x / 3.0})
+    text = csv_text(df)
+    lines = text.splitlines()
+    assert lines[0] == 'fz [N],"odd, name ""q""",flag,fy [N]' and len(lines) == 501
+    assert lines[4].split(",")[-3:-1] == ["", "False"]  # NaN empty (row 3), bool as pandas writes it
+    back = pd.read_csv(io.StringIO(text))
+    assert back["fz [N]"].dtype.kind == "i"
+    np.testing.assert_array_equal(back["odd, name \"q\""].to_numpy(), x)  # bit-exact, NaN kept
+    np.testing.assert_array_equal(back["fy [N]"].to_numpy(), -x / 3.0)
+    assert back["flag"].dtype == bool
+    y = x.copy()
+    y[5] = np.inf
+    back = pd.read_csv(io.StringIO(csv_text(pd.DataFrame({"a": y, "b": y}))))
+    assert back["a"].iloc[5] == np.inf and np.isnan(back["b"].iloc[3])
+    assert len(pd.read_csv(io.StringIO(csv_text(pd.DataFrame({"a": y}))))) == 500  # no blank line for NaN
+    assert csv_text(df.head(0)) == df.head(0).to_csv(index=False, lineterminator="\n")
+    df["note"] = "a,b"  # a text column: pandas writes it (quoted)
+    assert csv_text(df) == df.to_csv(index=False, lineterminator="\n")
