@@ -363,6 +363,8 @@ class Comparison:
         for ax in axes[n:]:
             ax.set_visible(False)
         fig = axes[0].figure
+        fa, fb = (getattr(t, "family", "") or type(t).__name__ for t in (ta, tb))
+        a_name, b_name = f"{a_name} [{fa}]", f"{b_name} [{fb}]"
         fig.suptitle(f"{a_name} (solid) and {b_name} (dashed), each evaluated at every sweep's own load, camber"
                      + (", pressure and speed" if self._data is not None else "") + "; circles: data (0.5° bins)"
                      if self._data is not None else f"{a_name} (solid) and {b_name} (dashed) at camber 0°", fontsize=10)
