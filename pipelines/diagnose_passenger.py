@@ -48,13 +48,30 @@ def main(out_dir: str | Path = "reports/diagnose_passenger") -> dict:
         return "; ".join(f"{a['family']} {a['status']} -> {a['test'].split(':')[0]}" for a in d["advice"]
                          if a["status"] != "not detected")
 
+    # the ladder's next rung: effects PAC89 cannot carry (pressure) go into an MF 6.1 tyre
+    mf_rmse = _mf61_export(data, accepted, out) if accepted else None
+    mf_text = (f"; exported MF 6.1 tyre RMSE {mf_rmse:.0f} N (diagnose's final {steps[-1]['rmse']:.0f} N)"
+               if mf_rmse is not None else "")
     return {"headline": f"accepted {', '.join(accepted) or 'nothing'}; RMSE {steps[0]['rmse']:.0f} -> "
                         f"{steps[-1]['rmse']:.0f} N (held-out {steps[-1]['rmse_heldout']:.0f} N, "
-                        f"noise floor {diag['noise_floor']:.0f} N); advice: {advice(diag) or 'none'}. "
+                        f"noise floor {diag['noise_floor']:.0f} N){mf_text}; advice: {advice(diag) or 'none'}. "
                         f"Truck A (5 one-sided sweeps, truck_a/index.html): accepted "
                         f"{', '.join(tdiag['accepted']) or 'nothing'}; advice: {advice(tdiag) or 'none'}",
             "accepted": accepted, "advice": diag["advice"], "truck_a_accepted": tdiag["accepted"],
-            "truck_a_advice": tdiag["advice"]}
+            "truck_a_advice": tdiag["advice"], "mf61_rmse": mf_rmse, "diagnose_rmse": steps[-1]["rmse"]}
+
+
+def _mf61_export(data: str, accepted: list[str], out: Path) -> float:
+    """``fit --effects ... --model mf61``: the accepted effects in an MF 6.1 tyre; its Fy RMSE [N] (.tir header)."""
+    from tyrefit.io.tir import read_tyre
+
+    tir = out / "passenger_mf61.tir"
+    _run(["fit", data, "--model", "mf61", "--effects", ",".join(accepted), "--rated-load", str(RATED_LOAD_N),
+          "--out", str(tir), "--report", str(out / "fit_mf61")])
+    for line in read_tyre(tir).header:
+        if line.strip().startswith("RMSE FY "):
+            return float(line.split()[2])
+    raise RuntimeError(f"{tir}: no 'RMSE FY' line in the header")
 
 
 if __name__ == "__main__":

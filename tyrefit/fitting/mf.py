@@ -191,7 +191,9 @@ EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
     "camber_thrust": ("PKY6", "PKY7", "PVY3", "PVY4"),
     "camber_brush": ("PKY6", "PKY7", "PEY4", "PEY5", "PVY3", "PVY4"),
     "offsets": ("PHY1", "PHY2", "PVY1", "PVY2"),
-    "offsets_constant": ("PHY1", "PVY1"),
+    # MF's vertical shift is SVy = Fz (PVY1 + PVY2 dfz) (4.E29): a shift constant in newtons (PAC89's a13,
+    # diagnose's offsets_constant) needs the load slope PVY2 as well
+    "offsets_constant": ("PHY1", "PVY1", "PVY2"),
     "pressure": ("PPY1", "PPY2", "PPY3", "PPY4"),
     "pressure_stiffness": ("PPY1", "PPY2"),
     "pressure_grip": ("PPY3", "PPY4"),
