@@ -212,3 +212,29 @@ def test_recovery_ten_seeds_worst_case():
     print("worst over 10 seeds [% of peak]:", {c: round(v, 3) for c, v in worst.items()})
     for c in ("fx", "fy", "mz", "my"):
         assert worst[c] < 1.0, (c, worst)
+
+
+def _csv(df: pd.DataFrame, path):
+    out = pd.DataFrame({"run": df["run"], "fz [N]": df["fz"], "slip_angle [deg]": np.degrees(df["slip_angle"]),
+                        "camber [deg]": np.degrees(df["camber"]), "pressure [kPa]": df["pressure"] / 1e3,
+                        "fy [N]": df["fy"], "mz [N*m]": df["mz"]})
+    path.write_text(out.to_csv(index=False))
+    return path
+
+
+def test_batch_fit_takes_model(tmp_path, capsys):
+    src = tmp_path / "data"
+    src.mkdir()
+    for k, seed in enumerate((8, 9)):
+        df = gen.make_sweeps(seed=seed, pressures=[260e3], cambers_deg=[0.0], slip_angles_deg=(), n_points=31,
+                             loads=[3000.0, 6000.0, 9000.0], combined=False)
+        _csv(df, src / f"tyre{k}.csv")
+    out = tmp_path / "out"
+    assert main(["batch", "fit", str(src), "--out", str(out), "--model", "mf61", "--workers", "1"]) == 0
+    for k in (0, 1):
+        tyre = read_tyre(out / f"tyre{k}.tir")
+        assert tyre.family == "MF61"
+        a = np.radians(np.linspace(-10, 10, 21))
+        ref = mf61.fy0(gen.published_mf61(), 6000.0, a, 0.0, 260e3)
+        assert np.max(np.abs(tyre.forces(6000.0, a, 0.0, 0.0, 260e3)["fy"] - ref)) < 0.02 * np.max(np.abs(ref))
+    assert "2 fitted" in capsys.readouterr().out

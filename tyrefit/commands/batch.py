@@ -27,7 +27,7 @@ def run(args: argparse.Namespace) -> int:
         raise SystemExit(2)
     res = batch_fit(args.source, args.out, workers=args.workers, scheduler=args.scheduler, force=args.force,
                     progress=True, cost=getattr(args, "cost", "l2"),
-                    convention=getattr(args, "convention", "iso"))
+                    convention=getattr(args, "convention", "iso"), model=getattr(args, "model", "pac89") or "pac89")
     print(f"{len(res.records)} data files: {res.n_ok} fitted, {res.n_skipped} up to date, {res.n_failed} failed "
           f"in {res.elapsed:.1f} s ({res.backend}); summary {res.summary_csv}, report {res.report}")
     failed = res.failed

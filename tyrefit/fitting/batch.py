@@ -241,8 +241,9 @@ def _read_json(path: Path) -> dict | None:
 
 
 def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2", convention: str = "iso",
-             status_path: str | None = None, fingerprint: dict | None = None) -> dict[str, Any]:
-    """Read one data file, fit PAC89, write the ``.tir`` (replacing it) and the status record.
+             status_path: str | None = None, fingerprint: dict | None = None,
+             model: str = "pac89") -> dict[str, Any]:
+    """Read one data file, fit PAC89 (or ``model`` 'mf61'/'mf52'), write the ``.tir`` (replacing it) and the status record.
 
     This is the task every worker runs; it never raises for a bad file.
 
@@ -259,13 +260,16 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
         from ..io.readers import read_data
 
         ds = read_data(source, convention=convention)
-        result = fit_pac89(ds, cost=cost)
-        tyre = result.tyre
-        tyre.to_tir(tir, force=True)  # the caller decided that this .tir may be (re)written
+        if model != "pac89":  # Magic Formula: tyrefit.fitting.mf; quality from the fit's own statistics
+            rec.update(_fit_mf(ds, tir, model, cost))
+        else:
+            result = fit_pac89(ds, cost=cost)
+            tyre = result.tyre
+            tyre.to_tir(tir, force=True)  # the caller decided that this .tir may be (re)written
+            rec.update(_fit_quality_from_result(result, tyre, ds))
         if fingerprint is not None:  # what this .tir was fitted from: decides 'up to date' next time
             write_text(_sidecar(tir), json.dumps({**fingerprint, "tir_sha256": _sha256(tir)}, indent=1) + "\n",
                        force=True)
-        rec.update(_fit_quality_from_result(result, tyre, ds))
         rec["status"] = "ok"
     except TyrefitError as exc:
         rec["error"] = _one_line(exc)
@@ -283,10 +287,23 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
     return rec
 
 
+def _fit_mf(ds, tir: str, model: str, cost: str) -> dict[str, Any]:
+    """Fit a Magic Formula tyre to ``ds`` and write it; the summary fields (Fy, else Fx, as for PAC89)."""
+    from .mf import fit_mf
+
+    result = fit_mf(ds, model=model, cost=cost)
+    result.write_tir(tir, force=True)
+    s = result.stats.get("fy" if ds.kind == "slip_angle" else "fx") or next(iter(result.stats.values()))
+    fz = ds.df["fz"].to_numpy(float)
+    mu = result.params.get("PDY1" if ds.kind == "slip_angle" else "PDX1", math.nan)
+    return {"points": int(len(ds.df)), "sweeps": int(ds.n_runs), "rmse": s["rmse"], "r2": s["r2"],
+            "peak_mu": float(abs(mu)), "fz_min": float(fz.min()), "fz_max": float(fz.max())}
+
+
 def _fit_task(task: tuple) -> dict[str, Any]:
-    source, tir, name, cost, convention, status_path, fp = task
+    source, tir, name, cost, convention, status_path, fp, *rest = task
     return fit_file(source, tir, name=name, cost=cost, convention=convention, status_path=status_path,
-                    fingerprint=fp)
+                    fingerprint=fp, model=rest[0] if rest else "pac89")
 
 
 def _jsonable(rec: dict) -> dict:
@@ -541,7 +558,7 @@ def _run_dask(tasks, client, progress: bool):
 
 def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, scheduler=None,
               force: bool = False, progress: bool = True, cost: str = "l2", convention: str = "iso",
-              summary: bool = True) -> BatchResult:
+              summary: bool = True, model: str = "pac89") -> BatchResult:
     """Fit a PAC89 tyre to every data file; write ``.tir`` files, status records and a summary.
 
     Parameters
@@ -563,6 +580,8 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
         show a progress bar on stderr.
     cost : {'l2', 'l1'}
         fit cost (``tyrefit.fitting.fit_pac89``).
+    model : {'pac89', 'mf61', 'mf52'}
+        tyre family fitted and written (Magic Formula: :func:`tyrefit.fitting.mf.fit_mf`, FITTYP 61 files).
     convention : {'iso', 'sae'}
         sign convention of the data files.
     summary : bool
@@ -577,6 +596,8 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     DataError
         no data files, bad options, or an unreachable scheduler.
     """
+    if model not in ("pac89", "mf52", "mf61"):
+        raise DataError(f"unknown model {model!r}; accepted: 'pac89', 'mf52', 'mf61'")
     if cost not in ("l1", "l2"):
         raise DataError(f"unknown fit cost {cost!r}; accepted: 'l1', 'l2'")
     if convention not in ("iso", "sae"):
@@ -591,9 +612,9 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     out.mkdir(parents=True, exist_ok=True)
     (out / _STATUS_DIR).mkdir(exist_ok=True)
     # every option that changes the fitted tyre: a change refits (the fingerprint beside each .tir)
-    options = {"cost": cost, "convention": convention}
+    options = {"cost": cost, "convention": convention, "model": model}
     tasks, records = _plan(files, out, force, options)
-    tasks = [(s, t, n, cost, convention, st, fp) for (s, t, n, _, _, st, fp) in tasks]
+    tasks = [(s, t, n, cost, convention, st, fp, model) for (s, t, n, _, _, st, fp) in tasks]
 
     client, own_client = (None, False)
     if scheduler is not None:

@@ -240,9 +240,14 @@ class FitResultMF:
         from .initial import load_levels
 
         if kind == "combined":
+            # one load (the level nearest FNOMIN), one curve per slip angle
+            lv = load_levels(d.groupby("run")["fz"].transform("mean").to_numpy())
+            lvs = pd.Series(lv, index=d.index)
+            means = d.groupby(lvs)["fz"].mean()
+            d = d[lvs == (means - self.params.get("FNOMIN", means.median())).abs().idxmin()]
             key = np.round(d["slip_angle"].groupby(d["run"]).transform("median") / _DEG).astype(int)
             groups = sorted(set(key))
-            lab = "α = {} deg"
+            lab = "α = {} deg, Fz ≈ " + f"{d['fz'].mean():.0f} N"
         else:
             lv = load_levels(d.groupby("run")["fz"].transform("mean").to_numpy())
             key = pd.Series(lv, index=d.index)
@@ -253,10 +258,11 @@ class FitResultMF:
             g = d[key == gk]
             col = cmap(i / max(1, len(groups) - 1))
             ax.plot(g[slip] * xs, g[channel], ".", ms=2, color=col, alpha=0.4)
-            o = np.argsort(g[slip].to_numpy())
             label = lab.format(gk) if kind == "combined" else lab.format(g["fz"].mean())
-            ax.plot(g[slip].to_numpy()[o] * xs, g[f"model_{channel}"].to_numpy()[o], "-", lw=1.2, color=col,
-                    label=label)
+            for j, (_, h) in enumerate(g.groupby("run")):  # one line per sweep, along its slip
+                o = np.argsort(h[slip].to_numpy(), kind="stable")
+                ax.plot(h[slip].to_numpy()[o] * xs, h[f"model_{channel}"].to_numpy()[o], "-", lw=1.2, color=col,
+                        label=label if j == 0 else None)
         ax.set_xlabel("slip ratio [%]" if slip == "slip_ratio" else "slip angle [deg]")
         ax.set_ylabel(f"{channel.upper()} [{_UNIT[channel]}]")
         ax.grid(True, alpha=0.3)
@@ -273,9 +279,9 @@ class FitResultMF:
         if c.empty:
             return ax
         for ch, g in c.groupby("channel"):
-            ax.plot(np.arange(len(g)), g["rmse_pct_peak"], "o-", ms=3, label=ch.upper())
+            ax.plot(np.arange(len(g)), g["rmse_pct_load_peak"], "o-", ms=3, label=ch.upper())
         ax.set_xlabel("condition cell (kind, load, pressure, camber, slip angle)")
-        ax.set_ylabel("RMSE [% of the cell's peak]")
+        ax.set_ylabel("RMSE [% of the channel's peak at that load]")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
         return ax
@@ -392,11 +398,13 @@ def _cells(df: pd.DataFrame) -> pd.DataFrame:
         if f"model_{c}" not in d:
             continue
         e = d[np.isfinite(d[c]) & np.isfinite(d[f"model_{c}"])]
+        load_peak = e.groupby("fz_cell")[c].agg(lambda v: float(np.max(np.abs(v))) or 1.0)
         for k, g in e.groupby(key, sort=True):
             res = g[f"model_{c}"] - g[c]
             pk = float(np.max(np.abs(g[c]))) or 1.0
             rows.append({"channel": c, "kind": k[0], "fz [N]": k[1], "pressure [kPa]": k[2] if k[2] >= 0 else None,
                          "camber [deg]": k[3], "slip angle [deg]": k[4], "n": len(g),
                          "rmse": float(np.sqrt(np.mean(res**2))), "bias": float(res.mean()),
-                         "rmse_pct_peak": 100.0 * float(np.sqrt(np.mean(res**2))) / pk})
+                         "rmse_pct_peak": 100.0 * float(np.sqrt(np.mean(res**2))) / pk,
+                         "rmse_pct_load_peak": 100.0 * float(np.sqrt(np.mean(res**2))) / load_peak[k[1]]})
     return pd.DataFrame(rows)
