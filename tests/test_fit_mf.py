@@ -188,11 +188,18 @@ def test_cli_rejects_several_files_for_pac89_and_pac89_flags_for_mf(ttc_pair, tm
     assert not out.exists()
 
 
-def test_mf52_fit_holds_pressure_terms():
-    df = gen.make_sweeps(seed=6, cambers_deg=[0.0], slip_angles_deg=[0.0], n_points=31)
+def test_mf52_fit_holds_pressure_terms_and_writes_fittyp_6(tmp_path):
+    p52 = dict(gen.published_mf61(), FITTYP=6, PHY3=0.02)
+    df = gen.make_sweeps(p52, seed=6, cambers_deg=[0.0, 3.0], slip_angles_deg=[0.0], n_points=31, pressures=[260e3])
     r = fit_mf(df, model="mf52", tyre_info=INFO, stages=["Fy0"])
-    assert "MF 5.2" in r.not_identifiable["PPY1"]
+    assert "MF 5.2" in r.not_identifiable["PPY1"] and "PHY3" in r.fitted
     assert r.version == "5.2"
+    tyre = read_tyre(r.write_tir(tmp_path / "t52.tir"))
+    assert tyre.family == "MF52" and tyre.params["PHY3"] == pytest.approx(r.params["PHY3"], rel=1e-6)
+    a = np.radians(np.linspace(-10, 10, 21))
+    ref = mf61.fy0(p52, 6000.0, a, math.radians(3.0), 260e3, version="5.2")
+    got = tyre.forces(6000.0, a, 0.0, math.radians(3.0), 260e3)["fy"]
+    assert np.max(np.abs(got - ref)) < 0.01 * np.max(np.abs(ref))
 
 
 def test_orientation_error_for_sae_data():

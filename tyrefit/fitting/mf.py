@@ -132,7 +132,7 @@ _MODELS = {"mf61": "6.1", "mf52": "5.2"}
 FX0 = ("PCX1", "PDX1", "PDX2", "PDX3", "PEX1", "PEX2", "PEX3", "PEX4", "PKX1", "PKX2", "PKX3",
        "PHX1", "PHX2", "PVX1", "PVX2", "PPX1", "PPX2", "PPX3", "PPX4")
 FY0 = ("PCY1", "PDY1", "PDY2", "PDY3", "PEY1", "PEY2", "PEY3", "PEY4", "PEY5", "PKY1", "PKY2", "PKY3",
-       "PKY4", "PKY5", "PKY6", "PKY7", "PHY1", "PHY2", "PVY1", "PVY2", "PVY3", "PVY4",
+       "PKY4", "PKY5", "PKY6", "PKY7", "PHY1", "PHY2", "PHY3", "PVY1", "PVY2", "PVY3", "PVY4",
        "PPY1", "PPY2", "PPY3", "PPY4", "PPY5")
 MZ0 = ("QBZ1", "QBZ2", "QBZ3", "QBZ4", "QBZ5", "QBZ9", "QBZ10", "QCZ1", "QDZ1", "QDZ2", "QDZ3", "QDZ4",
        "QDZ6", "QDZ7", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "QEZ1", "QEZ2", "QEZ3", "QEZ4", "QEZ5",
@@ -466,6 +466,10 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
     pr3 = f"needs >= 3 inflation pressures (quadratic in dpi or inside the stiffness law's atan; data: {n_p})"
     bothr = (f"needs both slip signs reaching half the largest |{slip_col}| (data: {pos} points above, "
              f"{neg} below)")
+    if version != "5.2":
+        need(["PHY3"], False, "an MF 5.2 coefficient (6.1 shifts with camber through K_y_gamma, PKY6/PKY7)")
+    else:
+        need(["PHY3"], n_c >= 2, cam)
     if version == "5.2":
         for nm in st.names:
             if nm in _ONLY_61:
@@ -1057,7 +1061,8 @@ def _known_names() -> set:
     global _KNOWN
     if _KNOWN is None:
         mf = _mf61()
-        _KNOWN = {k for names in mf.COEFFICIENTS.values() for k in names}
+        _KNOWN = {k for table in (mf.COEFFICIENTS, getattr(mf, "COEFFICIENTS_52", {}))
+                  for names in table.values() for k in names}
     return _KNOWN
 
 

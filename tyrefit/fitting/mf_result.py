@@ -203,8 +203,25 @@ class FitResultMF:
                       and any(k in self.stages[s].held for s in self.stages if self.stages[s].varied))
         if held:
             not_fitted.append("held at neutral values (not identifiable from these data): " + ", ".join(held))
-        write_mf_tir(self.params, path, ranges=self.ranges(), header=tuple(self.header()),
-                     not_fitted=tuple(not_fitted), force=force)
+        if self.version != "5.2":
+            write_mf_tir(self.params, path, ranges=self.ranges(), header=tuple(self.header()),
+                         not_fitted=tuple(not_fitted), force=force)
+            return Path(path)
+        # MF 5.2: the same layout, declared FITTYP = 6 (MF 5.2), with the 5.2-only PHY3; the 6.1-only keys
+        # stay at their neutral values (held in the fit) so a 6.1 reader of the file gets the same tyre
+        import re
+
+        from ..io.mf_tir import format_mf_tir
+        from ..io.outputs import write_text
+
+        head = list(self.header()) + ["MF 5.2 coefficients (FITTYP = 6); the MF 6.1-only keys are neutral"]
+        text = format_mf_tir(self.params, ranges=self.ranges(), header=head, not_fitted=tuple(not_fitted))
+        text, n = re.subn(r"(?m)^(FITTYP\s*=\s*)61\b", lambda m: m.group(1) + "6", text)
+        if n != 1:  # pragma: no cover - the writer's layout changed
+            raise RuntimeError("MF 5.2 file: FITTYP line not found in the MF 6.1 layout")
+        text = re.sub(r"(?m)^(PHY2\s*=.*)$", lambda m: m.group(1) + f"\nPHY3                     = "
+                      f"{self.params.get('PHY3', 0.0):.10g}", text, count=1)
+        write_text(path, text, force=force)
         return Path(path)
 
     def summary(self) -> str:
