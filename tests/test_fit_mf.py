@@ -245,3 +245,35 @@ def test_batch_fit_takes_model(tmp_path, capsys):
         ref = mf61.fy0(gen.published_mf61(), 6000.0, a, 0.0, 260e3)
         assert np.max(np.abs(tyre.forces(6000.0, a, 0.0, 0.0, 260e3)["fy"] - ref)) < 0.02 * np.max(np.abs(ref))
     assert "2 fitted" in capsys.readouterr().out
+
+
+def test_l1_cost_resists_outliers_better_than_l2():
+    # Komana et al. Eq. 5 (sum of absolute mu errors): a few gross outliers pull l2 more than l1
+    df = gen.make_sweeps(seed=11, pressures=[260e3], cambers_deg=[0.0], slip_angles_deg=[0.0], n_points=41,
+                         loads=[3000.0, 6000.0, 9000.0], noise=0.003)
+    rng = np.random.default_rng(0)
+    lat = df["slip_ratio"].abs().groupby(df["run"]).transform("max") == 0
+    idx = rng.choice(df.index[lat & (df["slip_angle"].abs() > math.radians(6))], 12, replace=False)
+    df.loc[idx, "fy"] *= 0.6
+    err = {}
+    for cost in ("l2", "l1"):
+        r = fit_mf(df, cost=cost, tyre_info=INFO, stages=["Fy0"])
+        a = np.radians(np.linspace(-12, 12, 49))
+        ref = mf61.fy0(gen.published_mf61(), 6000.0, a, 0.0, 260e3)
+        err[cost] = float(np.max(np.abs(mf61.fy0(r.params, 6000.0, a, 0.0, 260e3) - ref)) / np.max(np.abs(ref)))
+    assert err["l1"] < 0.5 * err["l2"], err
+
+
+def test_constraints_checked_on_the_grid_of_the_fitted_range(full_fit):
+    from tyrefit.fitting.mf import _factors
+
+    _, r = full_fit
+    cons = [c for f in r.stages.values() for c in f.constraints]
+    names = {c["constraint"] for c in cons}
+    assert {"mu_x > 0", "E_x <= 1", "K_x > 0", "mu_y > 0", "E_y <= 1", "K_y > 0 (data's sign)"} <= names
+    assert all(c["holds"] for c in cons), cons
+    # the check itself sees a broken curvature: E_y = PEY1 + ... > 1 somewhere on the grid
+    fz = np.array([3000.0, 9000.0])
+    bad = dict(r.params, PEY1=1.2)
+    ey = dict((n, v) for n, v, _ in _factors(bad, "Fy0", fz, 0.0 * fz, 0.0 * fz, np.ones(2)))["E_y <= 1"]
+    assert np.min(ey) < 0

@@ -12,6 +12,7 @@ its module docstring.  Every file they write starts with a
 #: and the ``data/`` sub-folder each one writes
 GENERATORS = {
     "ttc": "tyrefit.synthetic.ttc",
+    "ttc_mf61": "tyrefit.synthetic.ttc_drivebrake",
     "truck": "tyrefit.synthetic.truck",
     "passenger": "tyrefit.synthetic.passenger",
     "sim": "tyrefit.synthetic.vehicle_tyres",
