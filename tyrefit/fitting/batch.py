@@ -612,7 +612,7 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     out.mkdir(parents=True, exist_ok=True)
     (out / _STATUS_DIR).mkdir(exist_ok=True)
     # every option that changes the fitted tyre: a change refits (the fingerprint beside each .tir)
-    options = {"cost": cost, "convention": convention, "model": model}
+    options = {"cost": cost, "convention": convention, **({"model": model} if model != "pac89" else {})}
     tasks, records = _plan(files, out, force, options)
     tasks = [(s, t, n, cost, convention, st, fp, model) for (s, t, n, _, _, st, fp) in tasks]
 
