@@ -1,0 +1,164 @@
+"""MF 6.1 fit of a TTC-style cornering + drive/brake pair: staged fit vs plain finite-difference least squares.
+
+Data (synthetic, nothing here is a measurement): :mod:`tyrefit.synthetic.ttc_drivebrake`
+records of MFeval's published MF 6.1 example tyre in the FSAE TTC ``.dat``
+layout (SAE signs, warm-up, relaxation lag, drift, noise): a cornering record
+and a drive/brake record (slip-ratio sweeps at 0, -3, -6 deg) at 5 loads x 3
+pressures x 3 cambers, about 60 000 samples together.
+
+Measured (one thread of BLAS, :func:`tyrefit.fitting._blas.single_threaded_blas`):
+
+* ``tyrefit fit A.dat B.dat --model mf61`` end to end in-process: reading and
+  segmenting both files, gathering, the staged fit (Fx0 -> Fy0 -> Mz0 ->
+  combined Fx, Fy, Mz -> Mx), statistics.  Goal <= 60 s on the 2-core machine.
+* baseline, same run: plain ``scipy.optimize.least_squares`` (``trf``, 2-point
+  finite-difference Jacobian, no scaling) on the *same* residual - every
+  channel of every sweep at once, each point (model - data)/Fz (moments /(Fz R0))
+  weighted 1/sqrt(n_sweep), the model evaluated by
+  :func:`tyrefit.models.mf61.forces` - over the same coefficients, from the
+  same start (the fitter's Eq. 2-4 estimates and typical combined-slip
+  values).  It is stopped when its cost reaches the staged fit's cost on that
+  residual (+1 %) - "equal RMSE" - or when its time budget (4 x the staged
+  fit's time, at least 60 s; 600 s with ``TYREFIT_BENCH_FULL=1``) runs out,
+  in which case the ratio is a lower bound and the row says so.
+
+``python -m benchmarks.bench_fit_mf`` prints the dict.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from . import full, measurement
+
+
+class _Reached(Exception):
+    pass
+
+
+def _write_pair(folder: Path, sweep_seconds: float = 10.0) -> list[Path]:
+    from tyrefit.synthetic import ttc_drivebrake as gen
+
+    files = []
+    for kind in ("cornering", "drivebrake"):
+        df = gen.make_record(kind, sweep_seconds=sweep_seconds if kind == "drivebrake" else 1.6 * sweep_seconds)
+        f = folder / f"{kind}.dat"
+        f.write_text(gen.format_record(df, kind))
+        files.append((f, len(df)))
+    return files
+
+
+def _joint(data, p_fixed, names):
+    """The joint residual of every channel and sweep (the staged fit's stage residuals, stacked)."""
+    from tyrefit.models import mf61
+
+    df = data.df
+    kind = df["kind"].to_numpy()
+    kap = np.where(kind == "lateral", 0.0, df["slip_ratio"].to_numpy(float))
+    alp = np.where(kind == "longitudinal", 0.0, df["slip_angle"].to_numpy(float))
+    fz = df["fz"].to_numpy(float)
+    gam, pr, v = (df[c].to_numpy(float) for c in ("camber", "pressure", "speed"))
+    pr = np.where(np.isfinite(pr), pr, p_fixed["NOMPRES"])
+    v = np.where(np.isfinite(v), v, p_fixed.get("LONGVL", 16.7))
+    n = df.groupby("run")["run"].transform("size").to_numpy(float)
+    r0 = p_fixed["UNLOADED_RADIUS"]
+    parts = []
+    for c, scale in (("fx", 1.0), ("fy", 1.0), ("mz", r0), ("mx", r0), ("my", r0)):
+        y = df[c].to_numpy(float)
+        ok = np.isfinite(y)
+        if ok.sum() >= 10:
+            parts.append((c, ok, y[ok], 1.0 / (np.sqrt(n[ok]) * fz[ok] * scale)))
+
+    def residual(theta):
+        p = dict(p_fixed)
+        p.update(zip(names, theta))
+        out = mf61.forces(p, fz, kap, alp, gam, pr, v)
+        r = np.concatenate([w * (np.asarray(out[c])[ok] - y) for c, ok, y, w in parts])
+        return np.where(np.isfinite(r), r, 1e3)
+
+    return residual
+
+
+def run() -> dict:
+    from tyrefit.fitting._blas import single_threaded_blas
+    from tyrefit.fitting.mf import fit_mf, prepare_mf_data
+    from tyrefit.io.readers import read_data
+
+    out, info = [], {}
+    with tempfile.TemporaryDirectory() as tmp:
+        files = _write_pair(Path(tmp))
+        samples = sum(n for _, n in files)
+        paths = [f for f, _ in files]
+
+        def staged():
+            ds = [read_data(f, convention="sae") for f in paths]
+            return fit_mf(prepare_mf_data(ds))
+
+        with single_threaded_blas():
+            t0, c0 = time.perf_counter(), time.process_time()
+            res = staged()
+            t_fit, cpu_fit = time.perf_counter() - t0, time.process_time() - c0
+    data = res.data
+    names = list(res.fitted)
+    from tyrefit.models import mf61
+
+    # the fitter's own start: neutral set, the data's nominal conditions, the Eq. 2-4 estimates and the
+    # typical combined-slip values of each stage, and the non-zero starts that give RVY*/QSX* a gradient
+    start = mf61.neutral()
+    start.update({k: res.params[k] for k in ("FNOMIN", "NOMPRES", "INFLPRES", "LONGVL", "UNLOADED_RADIUS")
+                  if k in res.params})
+    for f in res.stages.values():
+        start.update(f.initial)
+    start.update({k: v for k, v in (("RVY1", 0.02), ("RVY5", 1.9), ("RVY6", 10.0), ("QSX4", 0.5), ("QSX5", 0.3),
+                                    ("QSX6", 1.0), ("QSX7", 0.5), ("QSX8", 1.0), ("QSX9", 0.5), ("QSX11", 1.0))
+                  if k in names})
+    residual = _joint(data, start, names)
+    target = float(np.sum(residual(np.array([res.params[k] for k in names])) ** 2))
+    budget = (600.0 if full() else max(60.0, 4.0 * t_fit))
+    track = {"best": math.inf, "t_reach": None, "calls": 0}
+    t_start = time.perf_counter()
+
+    def watched(theta):
+        r = residual(theta)
+        track["calls"] += 1
+        cost = float(np.sum(r * r))
+        track["best"] = min(track["best"], cost)
+        if cost <= 1.01 * target and track["t_reach"] is None:
+            track["t_reach"] = time.perf_counter() - t_start
+            raise _Reached
+        if time.perf_counter() - t_start > budget:
+            raise _Reached
+        return r
+
+    th0 = np.array([start[k] for k in names], float)
+    with single_threaded_blas():
+        try:
+            least_squares(watched, th0, jac="2-point", method="trf")
+        except _Reached:
+            pass
+    t_fd = track["t_reach"] if track["t_reach"] is not None else time.perf_counter() - t_start
+    reached = track["t_reach"] is not None
+    rm = {c: s["rmse"] for c, s in res.stats.items()}
+    out.append(measurement(
+        f"fit --model mf61, TTC-style cornering + drive/brake pair, {samples} samples, {len(names)} coefficients "
+        "(read, segment, staged fit, statistics)", t_fit,
+        "scipy least_squares, 2-point FD Jacobian, same joint residual/model/start, until equal cost"
+        + ("" if reached else f" (NOT reached in {t_fd:.0f} s: ratio is a lower bound)"), t_fd,
+        samples=samples, points_fitted=int(len(data.df)), coefficients=len(names), rmse=rm,
+        joint_cost=target, baseline_best_cost=track["best"], baseline_reached=reached,
+        baseline_residual_calls=track["calls"], speedup=t_fd / t_fit if t_fit > 0 else math.nan,
+        fit_cpu_seconds=cpu_fit, goal_seconds=60.0, stages={k: round(f.seconds, 2) for k, f in res.stages.items()}))
+    info.update(samples=samples, fit_seconds=t_fit, fit_cpu_seconds=cpu_fit, baseline_seconds=t_fd, baseline_reached=reached)
+    return {"measurements": out, "info": info}
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import json
+
+    print(json.dumps(run(), indent=2, default=float))
