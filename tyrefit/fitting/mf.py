@@ -211,6 +211,19 @@ _EFFECT_NOTES = {
 }
 
 
+#: effect family -> the effect whose MF 6.1 coefficients carry a variant of the family
+_FAMILY_DEFAULT = {"load_friction": "load_friction", "curvature": "curvature_load", "overload": "overload_stiffness",
+                   "camber": "camber", "offsets": "offsets", "pressure": "pressure", "speed": "speed"}
+
+
+def _in_catalogue(eid: str) -> bool:
+    try:
+        from ..effects.catalogue import EFFECTS
+    except ImportError:  # pragma: no cover
+        return False
+    return eid in EFFECTS
+
+
 def effect_coefficients(ids: Sequence[str]) -> tuple[list[str], list[str]]:
     """MF 6.1 Fy0 coefficients to vary for the diagnose start model plus effects ``ids``, and notes.
 
@@ -219,12 +232,21 @@ def effect_coefficients(ids: Sequence[str]) -> tuple[list[str], list[str]]:
     vary = list(START_FY0)
     notes: list[str] = []
     for eid in ids:
-        if eid not in EFFECT_COEFFICIENTS:
-            from ..errors import close_matches
+        coeffs = EFFECT_COEFFICIENTS.get(eid)
+        if coeffs is None:  # a variant of a family (diagnose's ids start with their family name)
+            fam = next((f for f in _FAMILY_DEFAULT if eid.startswith(f)), None)
+            if fam is not None:
+                coeffs = EFFECT_COEFFICIENTS[_FAMILY_DEFAULT[fam]]
+                notes.append(f"{eid}: carried in MF 6.1 by the {fam} family's coefficients ({', '.join(coeffs)})")
+            elif _in_catalogue(eid):
+                notes.append(f"{eid}: no MF 6.1 coefficient carries this effect; not in the exported tyre")
+                continue
+            else:
+                from ..errors import close_matches
 
-            raise DataError(f"unknown effect {eid!r} for --model mf61; known: {', '.join(EFFECT_COEFFICIENTS)}"
-                            + close_matches(eid, EFFECT_COEFFICIENTS))
-        vary += [k for k in EFFECT_COEFFICIENTS[eid] if k not in vary]
+                raise DataError(f"unknown effect {eid!r} for --model mf61; known: {', '.join(EFFECT_COEFFICIENTS)}"
+                                + close_matches(eid, EFFECT_COEFFICIENTS))
+        vary += [k for k in coeffs if k not in vary]
         if eid in _EFFECT_NOTES:
             notes.append(_EFFECT_NOTES[eid])
     return vary, notes
