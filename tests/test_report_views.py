@@ -359,3 +359,17 @@ def test_drive_brake_sweeps_left_out_of_the_fit_are_drawn_too():
     drawn = sorted(int(ln.get_gid().split()[-1]) for ax in panels for ln in ax.get_lines())
     assert drawn == left
     assert "4 sweeps NOT FITTED" in figs[0]._suptitle.get_text()
+
+
+def test_a_report_folder_given_as_a_relative_path_is_written(tmp_path, monkeypatch):
+    """`tyrefit diagnose ... --report rep` (relative) failed: files of the staged folder were staged twice."""
+    from tyrefit.io.outputs import output_run, staged_dir, write_text
+
+    monkeypatch.chdir(tmp_path)
+    with output_run([], ["rep"]):
+        with staged_dir("rep") as tmp:
+            for name in ("index.html", "cells.csv", "candidates.csv"):
+                write_text(tmp / name, name)
+    assert sorted(p.name for p in (tmp_path / "rep").iterdir() if not p.name.startswith(".")) == [
+        "candidates.csv", "cells.csv", "index.html"]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".rep.")]  # no staging folder left behind

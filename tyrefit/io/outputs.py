@@ -490,7 +490,9 @@ def staged_dir(path: str | os.PathLike, force: bool = False) -> Iterator[Path]:
     if not p.exists():
         run.makedirs(p.parent)
     try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{p.name}.", dir=p.parent if p.parent.exists() else None))
+        # absolute: files written into it are recognised as inside it (_in_tmpdir compares absolute paths);
+        # a relative --report DIR made a relative key and its files were staged twice
+        tmp = Path(os.path.abspath(tempfile.mkdtemp(prefix=f".{p.name}.", dir=p.parent if p.parent.exists() else None)))
     except OSError as exc:
         raise _oserror(exc, p, "cannot create the folder") from None
     run.tmpdirs[tmp] = _real(p)
