@@ -238,7 +238,7 @@ def test_a_handful_of_diagnoses(layout, noise, effect):
 
 def test_check_targets_pools_a_family_and_counts_misses():
     def row(eff, noise, right=True, ratio=1.1, fa=None):
-        r = {"layout": "load6", "noise": noise, "effect": eff, "ratio_first": ratio, "right_first": right}
+        r = {"layout": "load6", "noise": noise, "effect": eff, "ratio_first": ratio, "ratio": 1.0, "right_first": right}
         if eff is None:
             r = {"layout": "load6", "noise": noise, "effect": None, "false_alarm": fa}
         return r
@@ -249,6 +249,7 @@ def test_check_targets_pools_a_family_and_counts_misses():
     assert (lf["k"], lf["n"], lf["ok"]) == (10, 11, False)
     assert checks[("load_friction", "held-out RMSE after it <= 1.3 sigma")]["ok"]
     assert not checks[("offsets", "held-out RMSE after it <= 1.3 sigma")]["ok"]
+    assert checks[("offsets", "final held-out RMSE <= 1.3 sigma")]["ok"]
     fa = checks[("null", "false alarms")]
     assert (fa["k"], fa["n"], fa["ok"]) == (1, 20, True)
     assert "**no**" in vr.targets_markdown(list(checks.values()))
