@@ -213,7 +213,8 @@ def format_summary(s: dict[str, Any]) -> str:
         if s.get("missing"):
             lines.append("MISSING: " + ", ".join(s["missing"]))
         for prob in s.get("problems", []):
-            lines.append(f"problem: {prob}")
+            if not prob.startswith("required coefficient"):  # listed once, under MISSING
+                lines.append(f"problem: {prob}")
         for w in s.get("warnings", []):
             lines.append(f"warning: {w}")
         if s.get("chrono_limits"):
