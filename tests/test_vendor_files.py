@@ -190,3 +190,24 @@ def test_eval_csv_is_round_trip_exact_and_matches_pandas_text():
     assert csv_text(df.head(0)) == df.head(0).to_csv(index=False, lineterminator="\n")
     df["note"] = "a,b"  # a text column: pandas writes it (quoted)
     assert csv_text(df) == df.to_csv(index=False, lineterminator="\n")
+
+
+def test_compare_with_a_file_that_leaves_its_load_range_empty(tmp_path):
+    """teasit's FSAE export (no FZMIN/FZMAX, FNOMIN 2750 N) against MFeval's 6.1 example (FZMIN = 0): loads
+    were 0-18 kN, a row at Fz = 0 gave NaN and 'worst nan %'.  Now the overlap with 0.2-2 x FNOMIN."""
+    import json
+
+    from tyrefit.cli import main
+
+    p = tmp_path / "fsaettc_like.tir"
+    p.write_text(_EMPTY_OPTIONALS)
+    out = tmp_path / "c.json"
+    assert main(["compare", str(p), str(DATA / "mfeval_MagicFormula61_Paramerters.tir"), "--json", str(out)]) == 0
+    loads = json.loads(out.read_text())["loads"]
+    fz = [row["fz"] for row in loads]
+    assert min(fz) == pytest.approx(550.0) and max(fz) == pytest.approx(5500.0)
+    assert all(np.isfinite(row["mean_abs_dmu_over_peak"]) for row in loads)
+    from tyrefit.compare.tyres import _default_loads
+
+    mfeval = read_tyre(DATA / "mfeval_MagicFormula61_Paramerters.tir")
+    assert _default_loads(mfeval, mfeval)[0][0] == pytest.approx(0.05 * 18000.0)  # FZMIN = 0 is not a load

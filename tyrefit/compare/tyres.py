@@ -429,19 +429,38 @@ class Comparison:
 
 
 def _default_loads(ta, tb) -> tuple[np.ndarray, str]:
-    rs = [t.ranges.get("fz") for t in (ta, tb) if getattr(t, "ranges", None) and t.ranges.get("fz")]
+    """Five loads where both tyres are meant to be used.
+
+    A tyre's load range is its declared ``[VERTICAL_FORCE_RANGE]``, else
+    0.2-2 x FNOMIN (vendor files often leave FZMIN/FZMAX empty: comparing an
+    FSAE tyre over the other file's 0-18 kN range gave Fz = 0 and 6 x its
+    nominal load).  A declared FZMIN of 0 (MFeval's example) starts at 5 % of
+    the top load instead: no friction coefficient exists at Fz = 0.
+    """
+    rs, declared = [], []
+    for t in (ta, tb):
+        r = (getattr(t, "ranges", None) or {}).get("fz")
+        if r:
+            rs.append(tuple(map(float, r)))
+            declared.append(True)
+        elif getattr(t, "fnomin", None):
+            rs.append((0.2 * float(t.fnomin), 2.0 * float(t.fnomin)))
+            declared.append(False)
+    what = ("the tyres' fitted load ranges" if all(declared) else
+            "the tyres' load ranges (declared, else 0.2-2 x FNOMIN)")
+
+    def spread(lo, hi):
+        return np.linspace(lo if lo > 0 else 0.05 * hi, hi, 5)
+
     if len(rs) == 2:
         lo, hi = max(rs[0][0], rs[1][0]), min(rs[0][1], rs[1][1])
         if hi > lo:
-            return np.linspace(lo, hi, 5), "5 loads over the overlap of the tyres' fitted load ranges"
+            return spread(lo, hi), f"5 loads over the overlap of {what}"
         lo, hi = min(rs[0][0], rs[1][0]), max(rs[0][1], rs[1][1])
-        return np.linspace(lo, hi, 5), "5 loads over the union of the tyres' fitted load ranges (they do not overlap)"
+        return spread(lo, hi), f"5 loads over the union of {what} (they do not overlap)"
     if len(rs) == 1:
-        return np.linspace(rs[0][0], rs[0][1], 5), "5 loads over the fitted load range of the one tyre that has one"
-    fn = [t.fnomin for t in (ta, tb) if getattr(t, "fnomin", None)]
-    if fn:
-        f = float(np.mean(fn))
-        return f * np.array([0.25, 0.5, 0.75, 1.0, 1.25]), "0.25-1.25 x FNOMIN"
+        return spread(*rs[0]), ("5 loads over the fitted load range of the one tyre that has one" if declared[0]
+                                else "0.2-2 x FNOMIN of the one tyre that gives it")
     return np.array([2e3, 4e3, 6e3, 8e3, 10e3]), "2-10 kN (the tyre files give neither load ranges nor FNOMIN)"
 
 
