@@ -245,3 +245,28 @@ def test_write_tir_refuses_unphysical_model():
 def test_non_pac89_tir_is_a_format_error():
     with pytest.raises(FormatError, match="PAC2002"):
         read_tir(write("mf2.tir", MF))
+
+
+# --------------------------------------------------------------------------- the tyre interface on any point
+
+from pathlib import Path as _Path  # noqa: E402
+
+_DATA = _Path(__file__).parent / "data"
+_TYRES = {name: read_tyre(_DATA / name) for name in ("ref_adams_pac89_example.tir", "ref_Generic_Pac02Tire.tir",
+                                                      "mfeval_MagicFormula61_Paramerters.tir")}
+
+
+@FUZZ
+@given(name=st.sampled_from(sorted(_TYRES)),
+       fz=st.floats(-1e3, 1e5), alpha=st.floats(-1.5, 1.5), kappa=st.floats(-1.0, 3.0), gamma=st.floats(-0.3, 0.3))
+def test_forces_are_finite_and_mirror_twice_is_identity(name, fz, alpha, kappa, gamma):
+    """Any in-domain point: finite forces (zero off the ground); the mirror of the mirror is the tyre."""
+    t = _TYRES[name]
+    f = t.forces(fz, alpha, kappa, gamma)
+    for k, v in f.items():
+        assert v.shape == () and math.isfinite(float(v)), (k, v)
+        if fz <= 0:
+            assert float(v) == 0.0
+    back = t.mirrored().mirrored().forces(fz, alpha, kappa, gamma)
+    for k in f:
+        assert float(back[k]) == pytest.approx(float(f[k]), rel=1e-12, abs=1e-9)
