@@ -406,7 +406,8 @@ def _by_figure(table, channel: str, ax=None):
     ax.set_xlabel(channel)
     ax.set_ylabel(rm)
     ax.set_title(f"PAC89, one tyre per {channel} level: lateral RMSE against the noise floor", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_ylim(0, 1.3 * max(float(table[rm].max()), float(table[nf].max())))
+    ax.legend(fontsize=8, loc="upper right", ncols=2)
     ax.grid(axis="y", alpha=0.3)
     ax.figure.tight_layout()
     return ax.figure
