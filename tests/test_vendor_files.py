@@ -211,3 +211,43 @@ def test_compare_with_a_file_that_leaves_its_load_range_empty(tmp_path):
 
     mfeval = read_tyre(DATA / "mfeval_MagicFormula61_Paramerters.tir")
     assert _default_loads(mfeval, mfeval)[0][0] == pytest.approx(0.05 * 18000.0)  # FZMIN = 0 is not a load
+
+
+def _man5t_like(tmp_path, name, **replace):
+    text = GENERIC.read_text()
+    for old, new in replace.items():
+        text = text.replace(old, new)
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def test_pac2002_use_mode_2_with_zeroed_fx_block_is_lateral_only(tmp_path, capsys):
+    """Stackpole's TTC PAC2002 fits ship USE_MODE = 2 ('Fy, Mx, Mz only') with every Fx coefficient 0: eval refused
+    the file as unphysical (Cx = 0, mu_x = 0).  The part is absent: eval leaves fx empty, Fy and Mz as before."""
+    import re
+
+    from tyrefit.cli import main
+
+    text = GENERIC.read_text().replace("USE_MODE                   = 4", "USE_MODE                   = 2")
+    head, rest = text.split("[LONGITUDINAL_COEFFICIENTS]", 1)
+    block, tail = rest.split("$---", 1)
+    block = re.sub(r"(?m)^([A-Z0-9]+)(\s*=\s*)(\S+)", r"\g<1>\g<2>0", block)
+    p = tmp_path / "stackpole_like.tir"
+    p.write_text(head + "[LONGITUDINAL_COEFFICIENTS]" + block + "$---" + tail)
+    t, full = read_tyre(p), read_tyre(GENERIC)
+    assert not t.has_longitudinal and t.has_lateral and t.check() == []
+    f, g = t.forces(30000.0, slip_angle=0.05), full.forces(30000.0, slip_angle=0.05)
+    assert np.isnan(f["fx"]) and f["fy"] == g["fy"] and f["fy"] < 0
+    pts = tmp_path / "p.csv"
+    pts.write_text("fz [N],slip_angle [deg]\n30000,3\n")
+    assert main(["eval", str(p), "--points", str(pts), "--out", str(tmp_path / "f.csv")]) == 0
+    assert "no longitudinal model" in capsys.readouterr().out
+    assert (tmp_path / "f.csv").read_text().splitlines()[1].split(",")[2] == ""  # fx [N] empty
+
+
+def test_fittyp_52_reads_as_mf52(tmp_path):
+    p = _man5t_like(tmp_path, "fittyp52.tir", **{"PROPERTY_FILE_FORMAT       = 'PAC2002'": "FITTYP    =52"})
+    t = read_tyre(p)
+    assert t.family == "MF52" and read_property_file(p).format == "FITTYP 52"
+    assert t.forces(30000.0, slip_angle=0.05)["fy"] == read_tyre(GENERIC).forces(30000.0, slip_angle=0.05)["fy"]

@@ -55,7 +55,8 @@ _FORMAT_FAMILY = {"PAC89": "PAC89", "MF_05": "MF52", "MF05": "MF52", "PAC2002": 
                   "MF5.2": "MF52", "MF52": "MF52", "MF_52": "MF52", "MF_5.2": "MF52", "PAC_MF52": "MF52",
                   "MF61": "MF61", "MF_61": "MF61", "MF6.1": "MF61", "MF_6.1": "MF61", "MF62": "MF61",
                   "MF_62": "MF61", "MF6.2": "MF61", "MF_6.2": "MF61", "PAC_MF61": "MF61", "MF_06": "MF61"}
-_FITTYP_FAMILY = {5: "MF52", 6: "MF52", 21: "MF52", 61: "MF61", 62: "MF61"}
+#: 52 is not an MF-Tyre code, but FSAE TTC fits circulate with 'FITTYP = 52' for MF 5.2
+_FITTYP_FAMILY = {5: "MF52", 6: "MF52", 21: "MF52", 52: "MF52", 61: "MF61", 62: "MF61"}
 #: sections whose entries must all be numbers (an empty or text value there is an error naming the line)
 _NUMERIC_SECTION_SUFFIXES = ("_COEFFICIENTS", "_RANGE")
 _NUMERIC_SECTIONS = {"DIMENSION", "VERTICAL", "OPERATING_CONDITIONS", "TIRE_CONDITIONS", "STRUCTURAL",

@@ -89,7 +89,8 @@ class MFTyre(Tyre):
         """Fx, Fy, Mz, Mx, My (SI, ISO-W), combined slip (see :mod:`tyrefit.models.mf61`).
 
         ``pressure`` defaults to the file's INFLPRES (else NOMPRES); ``speed``
-        to LONGVL.  Points with ``fz <= 0`` give zeros.
+        to LONGVL.  Points with ``fz <= 0`` give zeros; a part the file does
+        not model (all its coefficients zero or absent) gives NaN.
         """
         p0 = self.params.get("INFLPRES", self.nominal_pressure)
         v0 = self.nominal_speed
@@ -104,11 +105,19 @@ class MFTyre(Tyre):
         with np.errstate(all="ignore"):
             out = _mf61.forces(self.params, fzs, slip_ratio=sr, slip_angle=sa, camber=cam, pressure=pr, speed=vv,
                                version=self.family)
-        return {k: np.where(on, np.broadcast_to(np.asarray(v, dtype=float), fz.shape), 0.0)
+        has = {"fx": self.has_longitudinal, "fy": self.has_lateral, "mz": self.has_aligning}
+        return {k: (np.where(on, np.broadcast_to(np.asarray(v, dtype=float), fz.shape), 0.0) if has.get(k, True)
+                    else np.full(fz.shape, np.nan))  # a part the file does not model: NaN, as Pac89Tyre
                 for k, v in out.items() if k in ("fx", "fy", "mz", "mx", "my")}
 
     def _has(self, part: str) -> bool:
-        return any(k in self.params for k in REQUIRED_MF[part])
+        """The file models ``part``: one of its required coefficients is given and non-zero.
+
+        Fitting houses write the parts they did not fit as zeros (Stackpole's
+        TTC PAC2002 files, ``USE_MODE = 2``: 'Fy, Mx, Mz only', every Fx
+        coefficient 0); such a part is absent, not unphysical.
+        """
+        return any(self.params.get(k, 0.0) != 0.0 for k in REQUIRED_MF[part])
 
     @property
     def has_lateral(self) -> bool:
