@@ -373,3 +373,14 @@ def test_a_report_folder_given_as_a_relative_path_is_written(tmp_path, monkeypat
     assert sorted(p.name for p in (tmp_path / "rep").iterdir() if not p.name.startswith(".")) == [
         "candidates.csv", "cells.csv", "index.html"]
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".rep.")]  # no staging folder left behind
+
+
+def test_a_sweep_without_a_pressure_value_is_drawn_and_said():
+    rows = []
+    a = np.radians(np.linspace(-8, 8, 30))
+    for run, p in enumerate([200e3, 200e3, 240e3, np.nan]):
+        rows.append(pd.DataFrame({"run": run, "fz": 3000.0 + 500 * run, "slip_angle": a, "pressure": p,
+                                  "fy": pac89.lateral_force(EXAMPLE, 3000.0, a)}))
+    facets, info = facet_sweeps(pd.concat(rows, ignore_index=True), ("pressure", "speed", "camber"))
+    assert [f.title for f in facets] == ["pressure not recorded", "pressure 200 kPa", "pressure 240 kPa"]
+    assert sorted(r for f in facets for r in f.runs) == [0, 1, 2, 3]

@@ -318,6 +318,7 @@ def _run_by(args, out: Path) -> int:
     if len(levels) < 2:
         raise DataError(f"{ds.source}: --by {ch}: the data hold one {ch} level "
                         f"({format_condition(ch, float(levels[0]))}); nothing to split - drop --by")
+    unassigned = int((idx < 0).sum())
     stem, json_path = out.with_suffix(""), getattr(args, "json", None)
     plan = []
     for k, lv in enumerate(levels):
@@ -382,6 +383,8 @@ def _run_by(args, out: Path) -> int:
         for w in result.warnings:
             if "not in the model" not in w:
                 print(f"  WARNING ({format_condition(ch, float(lv))}): {w}")
+    if unassigned:
+        print(f"  note: {unassigned} sweeps have no {ch} value and are in none of these tyres")
     print(f"wrote {table_path}")
     if getattr(args, "report", None):
         print(f"wrote {Path(args.report) / 'index.html'}")

@@ -77,7 +77,7 @@ def channel_levels(values, channel: str, tolerance: float | None = None) -> tupl
     levels : ndarray
         sorted levels [SI].
     index : ndarray of int
-        nearest level of each value.
+        nearest level of each value (-1 where the value is NaN: not recorded).
     """
     v = np.asarray(values, float)
     ok = np.isfinite(v)
@@ -91,7 +91,7 @@ def channel_levels(values, channel: str, tolerance: float | None = None) -> tupl
     if lv.size == 0:  # pragma: no cover - _levels always finds one level for non-empty input
         lv = np.array([float(np.median(v[ok]))])
     idx = np.argmin(np.abs(np.where(ok, v, lv[0])[:, None] - lv[None, :]), axis=1)
-    return lv, idx
+    return lv, np.where(ok, idx, -1)  # -1: not recorded for that sweep
 
 
 def _decimals(channel: str, levels) -> int:
@@ -184,7 +184,8 @@ def facet_sweeps(df: pd.DataFrame, channels=FACET_CHANNELS, *, tolerances: dict 
     for c in channels:
         if c in sc:
             levels[c], idx[c] = channel_levels(sc[c].to_numpy(), c, tol.get(c))
-    varying = [c for c in channels if c in levels and np.isfinite(levels[c]).all() and len(levels[c]) > 1]
+    varying = [c for c in channels if c in levels and np.isfinite(levels[c]).all()
+               and (len(levels[c]) > 1 or (idx[c] < 0).any())]
     constant = {c: float(levels[c][0]) for c in levels if c not in varying and np.isfinite(levels[c][0])}
     dec = {c: _decimals(c, levels[c]) for c in levels}
     rows_ch = [c for c in varying if c not in _COLUMN_CHANNELS]
@@ -201,11 +202,13 @@ def facet_sweeps(df: pd.DataFrame, channels=FACET_CHANNELS, *, tolerances: dict 
             if not m.any():
                 continue
             sub = sc[m].sort_values("fz")
-            cond = {c: float(levels[c][k]) for c, k in zip(rows_ch + cols_ch, rk + ck)}
-            title = ", ".join(format_condition(c, cond[c], dec[c]) for c in rows_ch + cols_ch) or "all sweeps"
+            cond = {c: (float(levels[c][k]) if k >= 0 else float("nan")) for c, k in zip(rows_ch + cols_ch, rk + ck)}
+            title = ", ".join(format_condition(c, cond[c], dec[c]) if np.isfinite(cond[c]) else
+                              f"{_DISPLAY[c][2]} not recorded" for c in rows_ch + cols_ch) or "all sweeps"
             facets.append(Facet(conditions=cond, runs=[int(r) for r in sub.index],
                                 loads=[float(x) for x in sub["fz"]], title=title, row=i, col=j, row_key=rk))
-    run_levels = pd.DataFrame({c: levels[c][idx[c]] for c in levels}, index=sc.index)
+    run_levels = pd.DataFrame({c: np.where(idx[c] >= 0, levels[c][np.maximum(idx[c], 0)], np.nan) for c in levels},
+                              index=sc.index)
     return facets, {"levels": levels, "varying": varying, "constant": constant, "run_levels": run_levels,
                     "decimals": dec}
 
