@@ -354,16 +354,16 @@ class FitResult:
             if c in t:
                 t[c] = t[c] * f
                 cols[c] = label
-        unit = {p: s["unit"] for p, s in self.stats.items()}
         for c in ("peak", "rmse", "bias", "noise"):
             if c in t:
                 t[c] = t[c].astype(float)
-        order = [c for c in ("part", "run", "n", "fz", "camber", "slip_angle", "pressure", "speed", "peak", "rmse",
-                             "rmse_pct", "bias", "bias_pct", "noise") if c in t]
-        t = t[order].rename(columns={**cols, "peak": "peak [N, N·m]", "rmse": "RMSE [N, N·m]",
-                                     "rmse_pct": "RMSE [% of peak]", "bias": "bias [N, N·m]",
-                                     "bias_pct": "bias [% of peak]", "noise": "noise floor [N, N·m]"})
-        del unit
+        if "part" in t:
+            t["unit"] = t["part"].map({"lateral": "N", "longitudinal": "N", "aligning": "N·m"})
+        order = [c for c in ("part", "run", "n", "fz", "camber", "slip_angle", "pressure", "speed", "unit", "peak",
+                             "rmse", "rmse_pct", "bias", "bias_pct", "noise") if c in t]
+        t = t[order].rename(columns={**cols, "n": "points", "peak": "peak [unit]", "rmse": "RMSE [unit]",
+                                     "rmse_pct": "RMSE [% of peak]", "bias": "bias [unit]",
+                                     "bias_pct": "bias [% of peak]", "noise": "noise floor [unit]"})
         return t
 
     def to_html(self) -> str:
