@@ -17,7 +17,7 @@ from tyrefit.synthetic.validation import runner as vr
 pytestmark = pytest.mark.slow
 
 #: seeds per (noise, effect) and nulls per noise model in the slow tier
-N_EFFECT, N_NULL = 10, 30
+N_EFFECT, N_NULL = 8, 25
 
 
 def _failed(checks):
@@ -48,18 +48,16 @@ def test_eight_sweeps_and_more_keep_their_rates():
 
 
 #: mutations the suite must catch (see runner.MUTATIONS; they patch names in tyrefit.diagnose.engine).  On the
-#: engine of issue 11 the calibrated screening test holds the false-alarm level by itself: in-sample evidence
-#: alone, or the confirmation guards alone removed, leave the nulls clean (measured, see the report), so those
-#: are caught only together with the screening
+#: engine of issue 11 several layers hold the false-alarm level: in-sample evidence alone, or one guard removed,
+#: raise the false alarms under correlated noise by a few points only (measured: see the closing report), which
+#: 40 nulls cannot tell from the engine's own rate; removing the screening test is caught clearly
 MUST_CATCH = ["noscreen", "insample+noconfirm+noscreen"]
 
 
 @pytest.mark.parametrize("mutation", MUST_CATCH)
 def test_the_suite_fails_a_broken_engine(mutation):
-    n = 8
-    rows = vr.run(vr.plan_cases(["load6", "grid24"], ["offsets"], ["null"], n_null=n), verbose=False,
-                  mutation=mutation)
-    fa = {(r["layout"], r["noise"]): 0 for r in rows}
-    for r in rows:
-        fa[(r["layout"], r["noise"])] += bool(r.get("false_alarm", True))
-    assert max(fa.values()) / n > vr.TARGETS["false_alarm"], fa
+    n = 20
+    rows = vr.run(vr.plan_cases(["load6"], ["offsets", "ar1"], ["null"], n_null=n), verbose=False, mutation=mutation)
+    k = sum(bool(r.get("false_alarm", True)) for r in rows)
+    # a clear failure: the whole 95 % interval of the false-alarm rate above the 5 % target
+    assert vr.wilson(k, len(rows))[0] > vr.TARGETS["false_alarm"], f"{k}/{len(rows)} false alarms"
