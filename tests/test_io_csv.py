@@ -8,7 +8,7 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 from tyrefit.io.datasets import data_path
-from tyrefit.errors import ColumnError, DataError
+from tyrefit.errors import ColumnError, DataError, UnitError
 from tyrefit.io.readers import (SAE_FLIPPED, Dataset, check_fittable, condition_levels, detect_kind, lateral_slope,
                                 read_data, require_patch)
 
@@ -141,9 +141,22 @@ def test_braking_table_keeps_text_columns(tmp_path):
 def test_utqg_and_emission_tables(tmp_path):
     u = read_data(write(tmp_path, "u.csv", "tyre,treadwear,traction\nA,400,AA\nB,600,A\n"))
     assert u.kind == "utqg" and list(u.df["traction"]) == ["AA", "A"]
-    e = read_data(write(tmp_path, "e.csv", "fx [kN],particles [1/km]\n0.5,1e6\n1.0,4e6\n2.0,1.6e7\n"))
+    e = read_data(write(tmp_path, "e.csv", "fx [kN],particles [#/min]\n0.5,60\n1.0,240\n2.0,960\n"))
     assert e.kind == "emission"
     assert_allclose(e.df["fx"], [500, 1000, 2000])
+    assert_allclose(e.df["particles"], [1, 4, 16])  # per second
+
+
+def test_particles_per_km_is_not_read_as_per_second(tmp_path):
+    """Issue 15: 'particles [#/km]' was read as particles per second."""
+    with pytest.raises(UnitError, match=r"per distance.*speed"):
+        read_data(write(tmp_path, "e.csv", "fx [N],particles [#/km]\n500,1e6\n1000,4e6\n2000,1.6e7\n"))
+    e = read_data(write(tmp_path, "v.csv", "fx [N],particles [#/km],speed [km/h]\n500,1e6,36\n1000,4e6,72\n"
+                                          "2000,1.6e7,36\n"))
+    # 1e6 per km at 10 m/s = 1e3 per m * 10 m/s = 1e4 per s
+    assert_allclose(e.df["particles"], [1e4, 8e4, 1.6e5])
+    with pytest.raises(UnitError, match="is a"):
+        read_data(write(tmp_path, "w.csv", "fx [N],particles [N]\n500,1\n1000,4\n2000,16\n"))
 
 
 def test_given_run_column_and_delimiters(tmp_path):

@@ -69,7 +69,8 @@ GLOSSARY: dict[str, Quantity] = {
         _Q("treadwear", "UTQG treadwear rating", "ratio", "-"),
         _Q("stopping_distance", "braking distance to standstill", "length", "m"),
         _Q("initial_speed", "speed at the start of braking", "speed", "m/s"),
-        _Q("particles", "tyre-wear particle count (or emission rate)", "count", "-"),
+        _Q("particles", "tyre-wear particle emission rate (per distance in a file: converted with the speed)",
+           "rate", "1/s"),
         _Q("time", "time", "time", "s", "RUNTIME"),
         _Q("loaded_radius", "loaded radius", "length", "m", "RIMRADIUS"),
         _Q("rolling_radius", "effective rolling radius", "length", "m"),
@@ -103,8 +104,12 @@ _U: dict[str, tuple[str, float]] = {
     # time
     "s": ("time", 1.0), "ms": ("time", 1e-3),
     # counts
-    "count": ("count", 1.0), "#": ("count", 1.0), "1/km": ("count", 1.0), "#/km": ("count", 1.0),
-    "1/s": ("count", 1.0), "#/s": ("count", 1.0),
+    "count": ("count", 1.0), "#": ("count", 1.0),
+    # emission rates: per second (SI), or per distance (converted with the speed by the readers)
+    "#/s": ("rate", 1.0), "1/s": ("rate", 1.0), "#/min": ("rate", 1 / 60), "1/min": ("rate", 1 / 60),
+    "#/h": ("rate", 1 / 3600), "1/h": ("rate", 1 / 3600),
+    "#/m": ("per_distance", 1.0), "1/m": ("per_distance", 1.0), "#/km": ("per_distance", 1e-3),
+    "1/km": ("per_distance", 1e-3), "#/mi": ("per_distance", 1 / 1609.344),
     # stiffness (for tyre files)
     "N/m": ("stiffness", 1.0), "N/mm": ("stiffness", 1e3), "kN/m": ("stiffness", 1e3), "kN/mm": ("stiffness", 1e6),
 }
@@ -213,6 +218,8 @@ def check_unit(name: str, unit: str) -> str:
         ok |= {"ratio"}
     if q.dimension == "count":
         ok |= {"count", "ratio"}
+    if q.dimension == "rate":
+        ok |= {"per_distance"}  # the readers turn it into a rate with the speed column, or refuse
     if dim not in ok:
         raise UnitError(
             f"unit [{unit}] is a {dim}, but {name!r} is a {q.dimension}; accepted: "

@@ -93,6 +93,7 @@ def fit_file(args, ds=None):
     size = _size_and_load(args)
     if ds is None:
         ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
+    notes += [f"dropped {n} samples: {why}" for why, n in ds.meta.get("dropped", {}).items()]
     sfi = None
     if ds.kind == "static":
         sfi = _static_input(ds, args, notes)

@@ -71,7 +71,7 @@ def inspect_data(ds: Dataset) -> dict[str, Any]:
                        "positive slip angle gives POSITIVE lateral force: not ISO-W; " +
                        ("is the file in another sign convention (--convention sae)?" if ds.convention != "sae" else
                         "the file was read as SAE (--convention sae) - is it in fact ISO-W already?"))
-    for key in ("info", "header", "constants", "segmentation", "phase"):
+    for key in ("info", "header", "constants", "segmentation", "phase", "dropped"):
         if key in ds.meta:
             out[key] = ds.meta[key]
     out["problems"] = plausibility_problems(ds)  # what fit/diagnose would refuse, said instead of refused
@@ -254,6 +254,8 @@ def format_summary(s: dict[str, Any]) -> str:
             lines.append("dropped: " + "; ".join(f"{v} {k}" for k, v in seg["dropped"].items()))
     if "info" in s and s["info"]:
         lines.append(f"info: {s['info']}")
+    if s.get("dropped"):
+        lines.append("dropped: " + "; ".join(f"{v} {k}" for k, v in s["dropped"].items()))
     for problem in s.get("problems", []):
         lines.append(f"PROBLEM (fit and diagnose refuse this file): {problem}")
     return "\n".join(lines)

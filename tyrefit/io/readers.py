@@ -473,6 +473,14 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
         if v.dtype != object and u is not None and name not in t.raw_columns:
             v = np.asarray(nm.to_si(v.astype(float), u), dtype=float)
         data[name] = v
+    per_distance = [c for c, u in t.units.items() if u and c in nm.GLOSSARY and nm.GLOSSARY[c].dimension == "rate"
+                    and nm.dimension_of(u) == "per_distance"]
+    for c in per_distance:  # particles [#/km]: a rate only with the speed it was measured at
+        if "speed" not in data or data["speed"].dtype == object:
+            raise UnitError(f"{p}: column '{t.headers[c]}' is per distance, but the emission law N(F) (seed 000 "
+                            "Eq. 14) is particles per second; add a 'speed [km/h]' column to convert, or give the "
+                            "rate in [#/s]")
+        data[c] = data[c] * np.abs(data["speed"])  # [#/m] * [m/s] = [#/s]
     # convention ----------------------------------------------------------
     flipped = []
     if convention == "sae":
@@ -528,6 +536,15 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     if kind == "vertical" and "phase" not in df:
         df["phase"] = load_phase(df["vertical_displacement"].to_numpy(), df["run"].to_numpy())
         meta["phase"] = "derived from the sign of the displacement increments (+1 load, -1 unload)"
+    # warm-up: samples with fz <= 0 before a sweep's first loaded sample are dropped and counted ----------
+    if kind in SWEEP_VARIABLE and "fz" in df and _numeric(df["fz"]) and len(df):
+        unloaded = df["fz"].to_numpy(float) <= 0
+        if unloaded.any():
+            seen = pd.Series(~unloaded, index=df.index).groupby(df["run"].to_numpy()).cummax().to_numpy()
+            warm = unloaded & ~seen
+            if warm.any() and not warm.all():
+                df = df[~warm]
+                meta["dropped"] = {"warm-up: fz <= 0 before the sweep's first loaded sample": int(warm.sum())}
     # plausibility --------------------------------------------------------
     _check_ranges(df, kind, p, t.headers, t.units)
     df = df.reset_index(drop=True)
