@@ -149,3 +149,88 @@ def test_debug_shows_traceback(tmp_path):
     assert quiet.returncode == 2 and "Traceback" not in quiet.stderr and quiet.stderr.count("\n") == 1
     assert loud.returncode != 0 and "Traceback (most recent call last)" in loud.stderr
     assert "FormatError" in loud.stderr
+
+
+# --------------------------------------------------------------------------- issue 15: inputs and outputs
+
+
+def _good_sweeps(path):
+    from hostile import GOOD
+
+    path.write_text(GOOD)
+    return path
+
+
+def test_fifo_and_devices_are_refused_at_once(tmp_path, capsys):
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    assert main(["fit", str(fifo), "--out", str(tmp_path / "t.tir")]) == 2  # used to hang
+    assert "is a FIFO" in one_line_error(capsys, "fit")
+    assert main(["inspect", "/dev/zero"]) == 2  # used to fill memory (MemoryError)
+    assert "character device" in one_line_error(capsys)
+    assert main(["compare", str(DATA / "io_adams_pac89_example.tir"), str(fifo)]) == 2
+    assert "FIFO" in one_line_error(capsys, "compare")
+
+
+def test_size_limit_and_max_size_flag(tmp_path, capsys):
+    d = _good_sweeps(tmp_path / "d.csv")
+    assert main(["inspect", str(d), "--max-size", "0.001"]) == 2
+    err = one_line_error(capsys)
+    assert "over the input size limit of 0.001 MB" in err and "--max-size" in err
+    assert main(["inspect", str(d), "--max-size", "1"]) == 0
+    capsys.readouterr()
+    for bad in ("nan", "-1", "0", "inf"):
+        assert main(["inspect", str(d), "--max-size", bad]) == 2
+        assert "--max-size" in one_line_error(capsys)
+
+
+@pytest.mark.parametrize("argv,match", [
+    (["fit", "{d}", "--rated-load", "nan", "--out", "{t}/t.tir"], "rated load must be a positive"),
+    (["fit", "{d}", "--rated-load", "-5", "--out", "{t}/t.tir"], "rated load must be a positive"),
+    (["fit", "{d}", "--rated-load", "1e9", "--out", "{t}/t.tir"], "at most 200 kN"),
+    (["diagnose", "{d}", "--rated-load", "inf", "--json", "{t}/o.json"], "rated load"),
+    (["diagnose", "{d}", "--seed", "-1", "--json", "{t}/o.json"], "seed"),
+    (["sim", "adhesion", "--road-mu", "nan"], "road-mu"),
+    (["sim", "adhesion", "--camber", "inf"], "camber"),
+    (["batch", "fit", "{t}", "--out", "{t}/o", "--workers", "0"], "worker"),
+])
+def test_numeric_flags_are_finite_and_in_range(tmp_path, capsys, argv, match):
+    d = _good_sweeps(tmp_path / "d.csv")
+    argv = [a.format(d=d, t=tmp_path) for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and match in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.csv"]
+
+
+def test_fit_outputs_are_committed_together(tmp_path, capsys):
+    d = _good_sweeps(tmp_path / "d.csv")
+    tir = tmp_path / "t.tir"
+    tir.write_text("earlier tyre\n")
+    (tmp_path / "r").write_text("a file, not a folder\n")
+    assert main(["fit", str(d), "--out", str(tir), "--report", str(tmp_path / "r"), "--force"]) == 2
+    assert "is a file" in one_line_error(capsys, "fit")
+    assert tir.read_text() == "earlier tyre\n"
+    assert main(["fit", str(d), "--out", str(tir), "--json", str(tir)]) == 2
+    assert "named twice" in one_line_error(capsys, "fit")
+    assert main(["fit", str(d), "--out", str(tir), "--json", str(d), "--force"]) == 2
+    assert "is an input" in one_line_error(capsys, "fit")
+    assert d.read_text().startswith("run,")
+    (tmp_path / "o.tir").mkdir()
+    assert main(["fit", str(d), "--out", str(tmp_path / "o.tir"), "--force"]) == 2
+    assert "is a folder" in one_line_error(capsys, "fit")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.csv", "o.tir", "r", "t.tir"]
+
+
+def test_disk_full_is_one_line_and_keeps_the_earlier_tyre(tmp_path):
+    d = _good_sweeps(tmp_path / "d.csv")
+    tir = tmp_path / "t.tir"
+    tir.write_text("earlier tyre\n")
+    code = ("import resource, sys\nresource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))\n"
+            "from tyrefit.cli import main\nsys.exit(main(sys.argv[1:]))\n")
+    r = subprocess.run([sys.executable, "-c", code, "fit", str(d), "--out", str(tir), "--force"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+    assert r.stderr.count("\n") == 1 and "t.tir: cannot write (file too large" in r.stderr
+    assert tir.read_text() == "earlier tyre\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.csv", "t.tir"]

@@ -322,15 +322,19 @@ class OutputRun:
 
     def commit(self) -> list[Path]:
         """Move every staged file into place; on failure restore what was replaced."""
-        items = self._plan()
-        for dest in self.tmpdirs.values():
-            self.makedirs(dest)
-        for r, _t, _s in items:
-            self.makedirs(r.parent)
         try:
-            items += self._manifests(items)
-        except OSError as exc:
-            raise _oserror(exc, items[0][0].parent if items else "", "cannot write the manifest") from None
+            items = self._plan()
+            for dest in self.tmpdirs.values():
+                self.makedirs(dest)
+            for r, _t, _s in items:
+                self.makedirs(r.parent)
+            try:
+                items += self._manifests(items)
+            except OSError as exc:
+                raise _oserror(exc, items[0][0].parent if items else "", "cannot write the manifest") from None
+        except BaseException:
+            self.rollback()
+            raise
         done: list[tuple[Path, Path | None]] = []
         try:
             for r, tmp, shown in items:
@@ -357,6 +361,9 @@ class OutputRun:
                         os.replace(backup, r)
                     else:
                         os.unlink(r)
+            for _r, tmp, _s in items:  # manifests and anything not yet moved
+                with contextlib.suppress(OSError):
+                    os.unlink(tmp)
             self.rollback()
             raise
         for _r, backup in done:

@@ -540,8 +540,13 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     if kind in SWEEP_VARIABLE and "fz" in df and _numeric(df["fz"]) and len(df):
         unloaded = df["fz"].to_numpy(float) <= 0
         if unloaded.any():
-            seen = pd.Series(~unloaded, index=df.index).groupby(df["run"].to_numpy()).cummax().to_numpy()
-            warm = unloaded & ~seen
+            by_run = pd.Series(~unloaded, index=df.index).groupby(df["run"].to_numpy())
+            seen = by_run.cummax().to_numpy()  # a loaded sample earlier in the same run
+            has_loaded = by_run.transform("any").to_numpy()
+            first = int(np.argmax(~unloaded))  # the file's first loaded sample
+            # before the file's first loaded sample, or before the first loaded sample of a run that has one;
+            # an unloaded stretch after loaded data (lift-off mid-test) is still refused
+            warm = unloaded & ((np.arange(len(df)) < first) | (~seen & has_loaded))
             if warm.any() and not warm.all():
                 df = df[~warm]
                 meta["dropped"] = {"warm-up: fz <= 0 before the sweep's first loaded sample": int(warm.sum())}
