@@ -7,6 +7,8 @@ The oracle: a reader given any bytes either returns or raises a
 from __future__ import annotations
 
 import tempfile
+
+import numpy as np
 from pathlib import Path
 
 from hypothesis import HealthCheck, settings
@@ -20,6 +22,9 @@ EXAMPLES = settings().max_examples
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 FUZZ_HALF = settings(max_examples=max(EXAMPLES // 2, 10), deadline=None,
                      suppress_health_check=[HealthCheck.too_slow])
+#: structured properties of whole files (each example reads a file of sweeps): a twentieth
+FUZZ_FEW = settings(max_examples=max(EXAMPLES // 20, 8), deadline=None,
+                    suppress_health_check=[HealthCheck.too_slow])
 
 _DIR = Path(tempfile.mkdtemp(prefix="tyrefit-fuzz-"))
 
@@ -109,3 +114,26 @@ def _mutate(data: bytes, ops) -> bytes:
     for op in ops:
         data = _apply(data, op)
     return data
+
+
+# --------------------------------------------------------------------------- issue 15: plausibility profiles
+
+#: whitespace runs that used to make header parsing backtrack (minutes for 5000 spaces)
+WHITESPACE = st.lists(st.sampled_from([" ", "\t", "\u00a0", "  "]), min_size=0, max_size=40).map("".join) | \
+    st.integers(1000, 20000).map(lambda n: " " * n)
+
+
+def sweep_table(loads=(2000.0, 4000.0, 6000.0), n=21, seed=0) -> np.ndarray:
+    """Rows (run, slip_angle [deg], fy [N], fz [N]) of ISO-W slip-angle sweeps (peak mu about 1)."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for r, fz in enumerate(loads):
+        a = np.linspace(-10, 10, n)
+        fy = -fz * np.sin(1.4 * np.arctan(0.3 * a)) + 0.01 * fz * rng.standard_normal(n)
+        rows += [(r, a[i], fy[i], fz) for i in range(n)]
+    return np.array(rows)
+
+
+def table_csv(arr: np.ndarray, header: str = "run,slip_angle [deg],fy [N],fz [N]") -> bytes:
+    lines = [header] + [f"{int(r)},{a:.5g},{f:.6g},{z:.6g}" for r, a, f, z in arr]
+    return ("\n".join(lines) + "\n").encode()

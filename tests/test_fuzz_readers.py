@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from fuzz_helpers import FUZZ, FUZZ_HALF, mutated, only_tyrefit_errors, write
+from fuzz_helpers import WHITESPACE, FUZZ, FUZZ_FEW, FUZZ_HALF, mutated, only_tyrefit_errors, sweep_table, table_csv, write
 from hypothesis import example, given
 from hypothesis import strategies as st
 
@@ -208,3 +208,82 @@ def test_oracle_catches_foreign_exceptions():
     with pytest.raises(KeyError):
         only_tyrefit_errors(bad_reader, "x")
     only_tyrefit_errors(lambda p: (_ for _ in ()).throw(TyrefitError("ours")), "x")
+
+
+# --------------------------------------------------------------------------- issue 15: the input checks
+
+
+@FUZZ
+@given(name=st.sampled_from(["fz", "slip angle", "FY", "camber"]), pad=WHITESPACE, pad2=WHITESPACE,
+       unit=st.sampled_from(["N", "kN", "deg", None]))
+def test_header_parsing_is_linear_and_ignores_padding(name, pad, pad2, unit):
+    """Any whitespace around and inside a header parses like the plain header (no regex backtracking)."""
+    from tyrefit.nomenclature import parse_header
+
+    plain = parse_header(f"{name} [{unit}]" if unit else name)
+    padded = parse_header(f"{pad}{name}{pad2}[{pad}{unit}{pad2}]{pad}" if unit else f"{pad}{name}{pad2}")
+    assert padded == plain
+
+
+@FUZZ_FEW
+@given(scale=st.floats(1e-4, 0.2), seed=st.integers(0, 100))
+def test_loads_in_kn_labelled_newtons_are_refused(scale, seed):
+    arr = sweep_table(seed=seed)
+    arr[:, 3] *= scale
+    with pytest.raises(TyrefitError, match="kN"):
+        read_data(write("kn.csv", table_csv(arr)))
+
+
+@FUZZ_FEW
+@given(flip=st.sets(st.integers(0, 2), min_size=1, max_size=3), seed=st.integers(0, 100))
+def test_sign_flipped_sweeps_are_refused(flip, seed):
+    arr = sweep_table(seed=seed)
+    for r in flip:
+        arr[arr[:, 0] == r, 2] *= -1
+    with pytest.raises(TyrefitError, match="opposite sign" if len(flip) < 3 else "reversed in every sweep"):
+        read_data(write("flip.csv", table_csv(arr)))
+
+
+@FUZZ_FEW
+@given(run=st.integers(0, 2), value=st.sampled_from([0.0, 1234.5, -50.0]), seed=st.integers(0, 100))
+def test_stuck_force_channel_is_refused(run, value, seed):
+    arr = sweep_table(seed=seed)
+    arr[arr[:, 0] == run, 2] = value
+    with pytest.raises(TyrefitError, match="constant"):
+        read_data(write("stuck.csv", table_csv(arr)))
+
+
+@FUZZ_FEW
+@given(k=st.integers(1, 5), fz=st.floats(-200.0, 0.0), seed=st.integers(0, 100))
+def test_warm_up_samples_without_load_are_dropped_and_counted(k, fz, seed):
+    arr = sweep_table(seed=seed)
+    warm = np.array([(0, 0.0, 1.0, fz)] * k)
+    ds = read_data(write("warm.csv", table_csv(np.vstack([warm, arr]))))
+    assert len(ds.df) == len(arr) and (ds.df["fz"] > 0).all()
+    assert sum(ds.meta["dropped"].values()) == k
+
+
+@FUZZ_FEW
+@given(seed=st.sampled_from(sorted(CSV_SEEDS)), bom=st.sampled_from([b"\xef\xbb\xbf", b""]))
+def test_a_bom_changes_nothing(seed, bom):
+    plain = read_data(write("plain.csv", CSV_SEEDS[seed]))
+    with_bom = read_data(write("bom.csv", bom + CSV_SEEDS[seed]))
+    pd.testing.assert_frame_equal(plain.df, with_bom.df)
+
+
+def test_tdx_and_ttc_with_bom_read_like_without():
+    for name, raw, conv in (("b.tdx", TDX, "iso"), ("b.dat", TTC, "sae")):
+        a = read_data(write(name, raw), convention=conv)
+        b = read_data(write(name, b"\xef\xbb\xbf" + raw), convention=conv)
+        pd.testing.assert_frame_equal(a.df, b.df)
+
+
+def test_fifo_and_device_inputs_are_refused(tmp_path):
+    import os
+
+    fifo = tmp_path / "p.csv"
+    os.mkfifo(fifo)
+    with pytest.raises(TyrefitError, match="FIFO"):
+        read_data(fifo)
+    with pytest.raises(TyrefitError, match="device"):
+        read_data("/dev/zero")
