@@ -195,3 +195,19 @@ def test_file_too_large_is_one_line_and_keeps_the_old_file(tmp_path):
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert "out.tir: cannot write (file too large" in r.stdout, r.stderr
     assert p.read_text() == "old" and sorted(x.name for x in tmp_path.iterdir()) == ["out.tir"]
+
+
+def test_a_symbolic_link_named_as_output_is_replaced_not_written_through(tmp_path):
+    precious = tmp_path / "precious.txt"
+    precious.write_text("keep")
+    link = tmp_path / "link.tir"
+    link.symlink_to(precious)
+    with output_run(force=True):
+        write_text(link, "new tyre", force=True)
+    assert precious.read_text() == "keep" and not link.is_symlink() and link.read_text() == "new tyre"
+
+
+@pytest.mark.parametrize("target", ["/dev/null", "/dev/stdout"])
+def test_devices_and_pipes_are_never_outputs(target):
+    with pytest.raises(OutputError, match="regular files only"):
+        write_text(target, "x", force=True)

@@ -493,6 +493,38 @@ def _cases_fit() -> list[Case]:
     add(Case("fit --report into the data's own folder, --force", "fit",
              ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--report", "{d}", "--force"],
              {"d.csv": GOOD}, "ok", check=_and(ok, _exists("index.html"))))
+    add(Case("fit --json /dev/null --force", "fit", ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--json",
+                                                     "/dev/null", "--force"], {"d.csv": GOOD}, "error", r"device"))
+    add(Case("fit --json /dev/stdout", "fit", ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--json", "/dev/stdout",
+                                               "--force"], {"d.csv": GOOD}, "error", r"(?i)regular file|device|FIFO"))
+    add(Case("fit --json names a FIFO, --force", "fit", ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--json",
+                                                         "{d}/p.json", "--force"], {"d.csv": GOOD, "p.json": _fifo},
+             "error", r"FIFO"))
+    add(Case("fit --out a symlink to a precious file, --force", "fit",
+             ["fit", "{d}/d.csv", "--out", "{d}/link.tir", "--force"],
+             {"d.csv": GOOD, "precious.txt": "keep\n", "link.tir": _symlink_to("precious.txt")}, "ok",
+             check=_and(_fit_ok("link.tir"), _unchanged("precious.txt", "keep\n")), may_change=("link.tir",)))
+    add(Case("fit --out a dangling symlink, no --force", "fit", ["fit", "{d}/d.csv", "--out", "{d}/dl.tir"],
+             {"d.csv": GOOD, "dl.tir": _symlink_to("nowhere.tir")}, "error", r"--force"))
+    add(Case("fit --out file name of 300 characters", "fit", ["fit", "{d}/d.csv", "--out", "{d}/" + "t" * 300 + ".tir"],
+             {"d.csv": GOOD}, "error", r"(?i)too long"))
+    add(Case("fit --out with spaces and unicode", "fit", ["fit", "{d}/d.csv", "--out", "{d}/Reifen ä 1.tir"],
+             {"d.csv": GOOD}, "ok", check=_fit_ok("Reifen ä 1.tir")))
+    add(Case("fit --out in a new nested folder", "fit", ["fit", "{d}/d.csv", "--out", "{d}/a/b/c/t.tir"],
+             {"d.csv": GOOD}, "ok", check=_fit_ok("a/b/c/t.tir")))
+    add(Case("fit --report in a new nested folder", "fit", ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--report",
+                                                            "{d}/x/y/r"], {"d.csv": GOOD}, "ok",
+             check=_and(ok, _exists("x/y/r/index.html"))))
+    add(Case("fit two data files, --json is the second", "fit",
+             ["fit", "{d}/d.csv", "{d}/e.csv", "--out", "{d}/t.tir", "--json", "{d}/e.csv", "--force"],
+             {"d.csv": GOOD, "e.csv": sweeps_csv(seed=SEED + 5)}, "error", r"input"))
+    add(Case("fit two data files with PAC89", "fit", ["fit", "{d}/d.csv", "{d}/e.csv", "--out", "{d}/t.tir"],
+             {"d.csv": GOOD, "e.csv": sweeps_csv(seed=SEED + 5)}, "error", r"(?i)several|mf61"))
+    add(Case("fit --patch is a FIFO", "fit", ["fit", "{d}/d.csv", "--patch", "{d}/p.csv", "--out", "{d}/t.tir"],
+             {"d.csv": GOOD, "p.csv": _fifo}, "error", r"FIFO"))
+    add(Case("fit data in the out folder is not touched by --report . --force", "fit",
+             ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--report", "{d}", "--force"],
+             {"d.csv": GOOD, "index.html": "my own page\n"}, "error", r"(?i)not written by tyrefit"))
     return C
 
 
@@ -543,7 +575,7 @@ def _cases_inputs() -> list[Case]:
 
 def _output_cases(cmd: str, argv: list[str], files: dict, label: str, json_name: str = "o.json",
                   report: bool = True, input_arg: str | None = None, ok_check=None, slow_ok: bool = False,
-                  ok_timeout: float = 120.0) -> list[Case]:
+                  ok_timeout: float = 120.0, report_extra: tuple[str, ...] = ()) -> list[Case]:
     """Output hazards for a command with ``--json`` (and ``--report``)."""
     C = []
     j = "{d}/" + json_name
@@ -558,9 +590,11 @@ def _output_cases(cmd: str, argv: list[str], files: dict, label: str, json_name:
                   {**files, "jd": _dir}, "error", r"(?i)folder"))
     C.append(Case(f"{label}: --json in /proc", cmd, [*argv, "--json", "/proc/x.json"], files, "error", r"/proc"))
     if report:
-        C.append(Case(f"{label}: --report names a file", cmd, [*argv, "--report", "{d}/r"], {**files, "r": "x\n"},
+        C.append(Case(f"{label}: --report names a file", cmd, [*argv, *report_extra, "--report", "{d}/r"],
+                      {**files, "r": "x\n"},
                       "error", r"(?i)is a file", origin="issue 15" if cmd in ("fit", "sim") else ""))
-        C.append(Case(f"{label}: --report holds a user file, no --force", cmd, [*argv, "--report", "{d}/r"],
+        C.append(Case(f"{label}: --report holds a user file, no --force", cmd,
+                      [*argv, *report_extra, "--report", "{d}/r"],
                       {**files, "r": _dir, "r/mine.txt": "mine\n"}, "error", r"(?i)not empty"))
         C.append(Case(f"{label}: --report equals --json", cmd, [*argv, "--json", "{d}/same", "--report", "{d}/same"],
                       files, "error", r"(?i)twice|same"))
@@ -582,8 +616,10 @@ def _cases_commands() -> list[Case]:
     # compare
     add(Case("compare bundled tyres", "compare", ["compare", *tyres, "--json", "{d}/c.json"], {}, "ok",
              check=_compare_ok, fast=True))
-    add(Case("compare with data", "compare", ["compare", *tyres, "--data", "{data}/sim/hard_tyre.csv", "--json",
-                                              "{d}/c.json"], {}, "ok", check=_compare_ok))
+    add(Case("compare with data", "compare", ["compare", *tyres, "--data", "{d}/d.csv", "--json", "{d}/c.json"],
+             {"d.csv": GOOD}, "ok", check=_compare_ok))
+    add(Case("compare with slip-ratio data", "compare", ["compare", *tyres, "--data", "{data}/sim/hard_tyre.csv"],
+             {}, "error", r"(?i)slip.angle"))
     add(Case("compare .tir with CRLF", "compare", ["compare", "{d}/a.tir", tyres[1], "--json", "{d}/c.json"],
              {"a.tir": (DATA / "sim/hard_front.tir").read_text().replace("\n", "\r\n")}, "ok", check=_compare_ok))
     add(Case("compare .tir with UTF-8 BOM", "compare", ["compare", "{d}/a.tir", tyres[1], "--json", "{d}/c.json"],
@@ -662,7 +698,8 @@ def _cases_commands() -> list[Case]:
              {"d.csv": sweeps_csv(scale=(1, 1, 1, 1e-3))}, "error", "kN"))
     add(Case("diagnose slip-ratio data", "diagnose", ["diagnose", slip, "--json", "{d}/o.json"], {}, "error",
              r"(?i)lateral"))
-    C += _output_cases("diagnose", ["diagnose", "{d}/d.csv"], {"d.csv": GOOD}, "diagnose", json_name="o.json")
+    C += _output_cases("diagnose", ["diagnose", "{d}/d.csv"], {"d.csv": GOOD}, "diagnose", json_name="o.json",
+                       report_extra=("--json", "{d}/x.json"))
     add(Case("diagnose clean sweeps", "diagnose", ["diagnose", "{d}/d.csv", "--json", "{d}/o.json", "--report",
                                                    "{d}/r"], {"d.csv": GOOD}, "ok",
              check=_and(json_has("o.json", "start", "accepted", "noise_floor", "steps", "candidates"),
@@ -710,7 +747,7 @@ def _cases_batch() -> list[Case]:
     add(Case("batch fit two tyres", "batch fit", b, two, "ok", check=_and(_batch_ok(2), _fit_ok("o/a.tir")),
              timeout=240))
     add(Case("batch fit: foreign .tir not replaced", "batch fit", b, {**two, "o": _dir, "o/a.tir": "my tyre\n"},
-             "error", r"(?i)not written by|--force", timeout=240))
+             "error", r"(?i)not written by|--force", timeout=240, writes_on_error=True))
     add(Case("batch fit: out is a file", "batch fit", b, {**two, "o": "x\n"}, "error", r"(?i)not a folder"))
     add(Case("batch fit: empty folder", "batch fit", b, {"db": _dir}, "error", r"(?i)no data files"))
     add(Case("batch fit: glob matches nothing", "batch fit", ["batch", "fit", "{d}/none/*.csv", "--out", "{d}/o"],
@@ -743,10 +780,11 @@ def _batch_stale_cases() -> list[Case]:
 
     C.append(Case("batch fit: replaced source refits", "batch fit", base,
                   {"prep": prerun(base), "db/a.csv": replace_old}, "ok",
-                  check=_and(_batch_ok(1, 0), _fit_ok("o/a.tir")), may_change=("db/a.csv", "o/a.tir"),
+                  check=_and(_batch_ok(1, 0), _fit_ok("o/a.tir")), may_change=("db/a.csv", "a.tir", "a.fit.json"),
                   origin="issue 15", timeout=300))
     C.append(Case("batch fit: --cost l1 after l2 refits", "batch fit", [*base, "--cost", "l1"],
-                  {"prep": prerun(base)}, "ok", check=_batch_ok(1, 0), origin="issue 15", timeout=300))
+                  {"prep": prerun(base)}, "ok", check=_batch_ok(1, 0), origin="issue 15", timeout=300,
+                  may_change=("a.tir", "a.fit.json")))
     C.append(Case("batch fit: unchanged source is up to date", "batch fit", base,
                   {"prep": prerun(base)}, "ok", check=_batch_ok(0, 1), timeout=300))
     return C

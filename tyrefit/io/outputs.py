@@ -130,6 +130,14 @@ def check_output(path: str | os.PathLike, force: bool = False) -> Path:
     p = Path(path)
     if p.is_dir():
         raise OutputError(f"{p}: is a folder; give a file name for this output")
+    try:
+        mode = os.stat(p).st_mode
+    except OSError:
+        mode = None
+    if mode is not None and not stat.S_ISREG(mode):  # /dev/null, /dev/stdout, a FIFO: never renamed over
+        what = ("a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or
+                stat.S_ISBLK(mode) else "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+        raise OutputError(f"{p}: is {what}; tyrefit writes its outputs to regular files only")
     for parent in p.parents:
         if parent.exists():
             if not parent.is_dir():
@@ -326,8 +334,8 @@ class OutputRun:
             items = self._plan()
             for dest in self.tmpdirs.values():
                 self.makedirs(dest)
-            for r, _t, _s in items:
-                self.makedirs(r.parent)
+            for _r, _t, shown in items:
+                self.makedirs(Path(os.path.abspath(shown)).parent)
             try:
                 items += self._manifests(items)
             except OSError as exc:
@@ -337,9 +345,11 @@ class OutputRun:
             raise
         done: list[tuple[Path, Path | None]] = []
         try:
-            for r, tmp, shown in items:
+            for _r, tmp, shown in items:
+                # the path as named: a symbolic link given as an output is replaced, never written through
+                r = Path(os.path.abspath(shown))
                 backup = None
-                if r.exists():
+                if r.exists() and not r.is_symlink():
                     backup = r.with_name(f".{r.name}.{os.getpid()}.bak")
                     try:
                         os.link(r, backup)
