@@ -740,3 +740,14 @@ def test_cli_diagnose_static_pushes_with_patch(tmp_path, capsys):
     adv = {a["family"]: a for a in js["advice"]}
     assert adv["offsets"]["status"] == "untestable"
     assert "advice" in capsys.readouterr().out
+
+
+def test_overload_on_one_level_above_the_rating_is_flagged_ambiguous_with_the_test_that_decides():
+    f = _forms()
+    d, rated, sigma = f.make("overload", "iid", seed=0, above_rated=1)
+    dg = diagnose(d, rated_load=rated, seed=0)
+    adv = {a["family"]: a for a in dg.advice}
+    assert dg.accepted and EFFECTS[dg.accepted[0]].family == "overload"
+    assert adv["overload"]["status"] == "ambiguous"
+    assert "one load level above the rated load" in adv["overload"]["why"]
+    assert "second load above the rated load" in adv["overload"]["test"]

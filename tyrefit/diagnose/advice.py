@@ -129,7 +129,15 @@ def build_advice(data, cands: dict, accepted: list[str], settings) -> list[dict]
         entry = None
         if fam in acc_fams | start_fams:
             tied = [c for c in cs if c.status == "variant not distinguishable"]
-            if tied:
+            r = data.summary.rated_load
+            above = [f for f in data.summary.fz_levels if r is not None and f > 1.02 * r]
+            if fam == "overload" and len(above) == 1 and fam in acc_fams:
+                chosen = next(a for a in accepted if EFFECTS[a].family == fam)
+                entry = {"effect": chosen, "family": fam, "status": "ambiguous",
+                         "why": (f"accepted on one load level above the rated load ({above[0] / 1e3:.1f} kN): the "
+                                 "sweeps below the rating do not follow that one, but no held-out level checks a "
+                                 "knee at the rating against another law (or a fault of that one sweep)")}
+            elif tied:
                 chosen = next(a for a in accepted if EFFECTS[a].family == fam)
                 entry = {"effect": chosen, "family": fam, "status": "ambiguous",
                          "why": (f"variants {', '.join([chosen] + [c.effect for c in tied])} fit the held-out sweeps "

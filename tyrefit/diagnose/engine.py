@@ -102,6 +102,10 @@ class Settings:
     test : ``'auto'``, ``'flip'`` or ``'noise'``: the screening test's null
         (see :func:`~tyrefit.diagnose.stats.screen_candidates`).
     loso_max_sweeps : up to this many sweeps, hold out one sweep at a time.
+    n_boot_heldout : noise-model draws of the held-out gain's null (few sweeps).
+    heldout_extrapolation : count held-out sweeps beyond the training levels
+        in ``rmse_heldout`` and in the evidence (default False: they are
+        extrapolations, reported apart as ``rmse_extrapolated``).
     batch : candidates refitted at a time (largest predicted gain first).
     max_steps : most effects added.
     max_points_per_sweep : longer sweeps are thinned evenly.

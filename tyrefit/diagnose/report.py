@@ -89,7 +89,8 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
                   "every sweep); a model cannot do better than it on average.")
     r.table([{"step": i, "added": s.added or "(start)", "effects": ", ".join(s.effects) or "base PAC89",
               "RMSE [N]": s.rmse, "held-out RMSE [N]": s.rmse_heldout,
-              "held-out levels RMSE [N]": s.rmse_levelout} for i, s in enumerate(dg.steps)], digits=4)
+              "held-out levels RMSE [N]": s.rmse_levelout,
+              "extrapolated sweeps RMSE [N]": s.rmse_extrapolated} for i, s in enumerate(dg.steps)], digits=4)
 
     # -- evidence ------------------------------------------------------------------------
     r.h2("2. Evidence for every catalogue effect")
