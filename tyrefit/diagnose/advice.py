@@ -144,7 +144,11 @@ def build_advice(data, cands: dict, accepted: list[str], settings) -> list[dict]
                                  f"within the practical margin; the simplest ({chosen}) was added")}
         elif statuses == {"not testable with these data"}:
             c = cs[0]
-            entry = {"effect": c.effect, "family": fam, "status": "untestable", "why": c.reason}
+            why = c.reason
+            if len(data.summary.fz_levels) == 1 and fam in ("load_friction", "curvature_load", "offsets"):
+                why += ("; with one load a law in load is a constant, which the base coefficients (a2, a7, the "
+                        "shifts' constant parts) already are: the family cannot be told apart from them")
+            entry = {"effect": c.effect, "family": fam, "status": "untestable", "why": why}
         else:
             unconf = [c for c in cs if c.status in ("significant but not confirmed", "confirmed, not added")]
             if unconf:
