@@ -251,3 +251,63 @@ def test_fittyp_52_reads_as_mf52(tmp_path):
     t = read_tyre(p)
     assert t.family == "MF52" and read_property_file(p).format == "FITTYP 52"
     assert t.forces(30000.0, slip_angle=0.05)["fy"] == read_tyre(GENERIC).forces(30000.0, slip_angle=0.05)["fy"]
+
+
+# --------------------------------------------------------------------------- records in the layouts users bring
+
+def _vw_drivebrake(with_warmup: bool, zero_mz: bool = False):
+    """A drive/brake record in SAE signs (FZ < 0) whose truth is Project Chrono's generic PAC2002 truck tyre, seeded."""
+    import pandas as pd
+
+    t = read_tyre(GENERIC)
+    rng = np.random.default_rng(7)
+    rows = []
+    for fz in (15000.0, 30000.0, 45000.0):
+        k = np.concatenate([np.linspace(0, -0.25, 60), np.linspace(-0.25, 0.25, 120), np.linspace(0.25, 0, 60)])
+        fzm = fz * (1 + 0.01 * rng.standard_normal(k.size))
+        f = t.forces(fzm, slip_ratio=k)
+        rows.append(pd.DataFrame({"SL [-]": k, "SA [deg]": 0.0, "FZ [N]": -fzm,
+                                  "FX [N]": f["fx"] + 0.015 * fz * rng.standard_normal(k.size),
+                                  "FY [N]": rng.normal(0, 100, k.size), "MZ [N*m]": 0.0 if zero_mz else -f["mz"]}))
+    if with_warmup:  # a TTC-style warm-up: load ramped from 50 N while the slip angle creeps by 0.5 deg
+        rows.insert(0, pd.DataFrame({"SL [-]": 0.0, "SA [deg]": np.linspace(0, 0.5, 200),
+                                     "FZ [N]": -np.linspace(50, 30000, 200), "FX [N]": rng.normal(0, 30, 200),
+                                     "FY [N]": rng.normal(0, 30, 200), "MZ [N*m]": 0.0}))
+    return pd.concat(rows, ignore_index=True)
+
+
+def test_fit_drive_brake_record_with_a_load_ramp_warm_up(tmp_path, capsys):
+    """The warm-up (load 50 N -> 30 kN, slip angle 0 -> 0.5 deg, Mz 0) was taken as a lateral and an aligning sweep;
+    the aligning start had D = 0 and scipy raised 'Residuals are not finite' as a traceback."""
+    from tyrefit.cli import main
+
+    p = tmp_path / "drivebrake_sae.csv"
+    _vw_drivebrake(with_warmup=True).to_csv(p, index=False)
+    out = tmp_path / "t.tir"
+    assert main(["fit", str(p), "--convention", "sae", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "load is not held" in text and "longitudinal RMSE" in text and "lateral RMSE" not in text
+    t = read_tyre(out)
+    assert not t.has_lateral and t.has_longitudinal
+    fx = t.forces(30000.0, slip_ratio=np.array([-0.05, 0.05]))["fx"]
+    ref = read_tyre(GENERIC).forces(30000.0, slip_ratio=np.array([-0.05, 0.05]))["fx"]
+    np.testing.assert_allclose(fx, ref, rtol=0.05)
+
+
+def test_fit_with_an_mz_channel_of_zeros_fits_the_rest(tmp_path, capsys):
+    import pandas as pd
+
+    from tyrefit.cli import main
+
+    t = read_tyre(GENERIC)
+    rng = np.random.default_rng(5)
+    rows = []
+    for run, fz in enumerate((15000.0, 30000.0, 45000.0)):
+        a = np.linspace(-12, 12, 81)
+        rows.append(pd.DataFrame({"fz [N]": fz, "slip_angle [deg]": a, "mz [N*m]": 0.0,
+                                  "fy [N]": t.forces(fz, slip_angle=np.radians(a))["fy"] + rng.normal(0, 150, a.size)}))
+    p = tmp_path / "no_mz.csv"
+    pd.concat(rows).to_csv(p, index=False)
+    assert main(["fit", str(p), "--out", str(tmp_path / "t.tir")]) == 0
+    assert "'mz' is zero throughout" in capsys.readouterr().out
+    assert read_tyre(tmp_path / "t.tir").has_lateral

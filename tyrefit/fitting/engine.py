@@ -210,6 +210,8 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
     angle varies by less than 0.5 deg and stays within 0.5 deg of zero.
     Other sweeps (combined slip, or longitudinal at a slip angle) are left out:
     PAC89 has pure-slip curves only.
+    A run whose load is not held (its 5-95 % load range exceeds half its
+    median load: a rig's warm-up or load ramp) is left out with a note.
     Points with NaN in the needed columns or Fz <= 0 are dropped.
     """
     df, info = _frame(data)
@@ -218,9 +220,15 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
                         "into slip angles with tyrefit.rig.prepare_static_fit (Komana et al. Eq. 1, needs the "
                         "contact-patch length); 'tyrefit fit' does this with --patch PATCH.csv")
     parts: dict[str, PartData] = {}
-    dropped = []
+    dropped, ramps = [], []
     lat_runs, lon_runs = [], []
     for run, g in df.groupby("run", sort=True):
+        fzr = g["fz"].to_numpy(float)
+        fzr = fzr[np.isfinite(fzr)]
+        if fzr.size and np.median(fzr) > 0 and \
+                np.subtract(*np.percentile(fzr, [95, 5])) > 0.5 * np.median(fzr):
+            ramps.append(int(run))  # the load is not held (a rig's warm-up or load ramp): not a sweep
+            continue
         sa_var = "slip_angle" in g and _varies(g["slip_angle"], math.radians(0.5))
         sr_var = "slip_ratio" in g and _varies(g["slip_ratio"], 0.01)
         # a slip-angle sweep may carry slip-ratio noise (FSAE TTC: +-0.01); only a slip ratio that
@@ -236,6 +244,10 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
                 dropped.append(int(run))
         elif sa_var or sr_var:
             dropped.append(int(run))
+    if ramps:
+        info.setdefault("notes", []).append(
+            f"{len(ramps)} run(s) whose load is not held (5-95 % range above half the median: a warm-up or load "
+            f"ramp) left out (runs {ramps[:8]}{'...' if len(ramps) > 8 else ''})")
     if dropped:
         info.setdefault("notes", []).append(
             f"{len(dropped)} combined-slip sweep(s) left out (runs {dropped[:8]}{'...' if len(dropped) > 8 else ''}): "
@@ -253,6 +265,10 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
         counts = sub.groupby("run")["run"].transform("size").to_numpy()
         sub = sub[counts >= 4]
         if len(sub) < 10:
+            continue
+        if not np.any(np.abs(sub[cols[0]].to_numpy(float)) > 1e-9 * np.abs(sub["fz"].to_numpy(float)).max()):
+            info.setdefault("notes", []).append(  # a rig without that channel often writes zeros
+                f"{name}: '{cols[0]}' is zero throughout the sweeps; the {name} part is not fitted")
             continue
         spec = PARTS[name]
         counts = sub.groupby("run")["run"].transform("size").to_numpy()
@@ -508,6 +524,9 @@ class _Problem:
     def solve(self, theta0, *, loss="linear", f_scale=1.0, max_nfev=None, tol=1e-9):
         if len(theta0) == 0:
             return theta0, 0
+        if not np.all(np.isfinite(self.residual(theta0))):
+            raise FitError(f"{self.spec.name}: the model is not finite at the start values estimated from the data "
+                           "(Eq. 2-4 found no force to fit: a flat or zero channel?); check the sweeps and units")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             r = least_squares(self.residual, theta0, jac=self.jac, bounds=(self.lb, self.ub), method=self.method,
