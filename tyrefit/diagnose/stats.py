@@ -16,7 +16,17 @@ noise.  Everything here treats the *sweep* as the independent unit:
 * :func:`crossval_surface` - how much of a residual a smooth surface over slip
   and conditions, fitted to other sweeps, predicts on held-out sweeps
   (systematic misfit against noise correlated within a sweep).
-* :func:`holm` - Holm's step-down correction across the effects screened.
+* :func:`screen_candidates` - every candidate of a round screened at once,
+  min-p adjusted over the same draws; its null from sweep flips (>=
+  :data:`MIN_FLIP_SWEEPS` sweeps) or from a parametric bootstrap of an AR(1) +
+  sweep-offset noise model (:func:`estimate_noise`, :func:`simulate_noise`)
+  estimated from the residuals, bias-corrected and re-estimated per draw
+  (few sweeps: a one-sweep-per-load rig programme has 5-7);
+* :func:`heldout_gain_null` - the held-out gain a candidate that is not there
+  gets from noise alone (the second gate with few sweeps);
+* :func:`detectable_size` - the smallest effect the score test detects with a
+  given power (experiment-design advice);
+* :func:`holm` - Holm's step-down correction (kept for callers; the engine uses min-p).
 * :func:`noise_floor` - the within-sweep noise: RMSE a separate smooth curve
   through every sweep leaves.
 * :func:`sweep_folds`, :func:`level_folds` - hold-out folds of whole sweeps and
@@ -33,6 +43,8 @@ import numpy as np
 from scipy.interpolate import BSpline
 
 __all__ = ["ScoreTest", "score_test", "GroupScoreTest", "score_test_groups", "residualise", "holm", "noise_floor",
+           "SweepLayout", "NoiseModel", "estimate_noise", "simulate_noise", "Screen", "screen_candidates",
+           "heldout_gain_null", "detectable_size", "MIN_FLIP_SWEEPS",
            "sweep_folds", "level_folds", "cluster_bootstrap_prob", "cluster_sums", "crossval_surface"]
 
 _DEG = np.pi / 180.0
