@@ -7,5 +7,6 @@ and Chrono PAC89 JSON); it returns the right family.
 from .base import FAMILIES, MirroredTyre, Tyre, require_physical
 from .mf import MFTyre
 from .pac89 import Pac89Tyre
+from .size import TyreSize, parse_size
 
-__all__ = ["Tyre", "MirroredTyre", "Pac89Tyre", "MFTyre", "FAMILIES", "require_physical"]
+__all__ = ["Tyre", "MirroredTyre", "Pac89Tyre", "MFTyre", "FAMILIES", "require_physical", "TyreSize", "parse_size"]
