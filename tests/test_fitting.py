@@ -88,8 +88,9 @@ def test_l1_is_robust_to_outliers(lateral):
     rng = np.random.default_rng(5)
     idx = rng.choice(len(df), 40, replace=False)
     df.loc[idx, "fy"] += rng.choice([-1, 1], 40) * 3000.0
-    w1 = _worst_pct_of_peak(fit_pac89(df, cost="l1").tyre, EXAMPLE)
-    w2 = _worst_pct_of_peak(fit_pac89(df, cost="l2").tyre, EXAMPLE)
+    # screen=False: the costs alone (the default screening leaves most of these 3 kN outliers out)
+    w1 = _worst_pct_of_peak(fit_pac89(df, cost="l1", screen=False).tyre, EXAMPLE)
+    w2 = _worst_pct_of_peak(fit_pac89(df, cost="l2", screen=False).tyre, EXAMPLE)
     assert w1 < w2
 
 
@@ -171,7 +172,7 @@ def test_unknown_names_and_cost():
     with pytest.raises(DataError, match="not a PAC89 coefficient"):
         fit_pac89(df, vary=["a3", "pky1"])
     with pytest.raises(DataError, match="cost"):
-        fit_pac89(df, cost="huber")
+        fit_pac89(df, cost="cauchy")
 
 
 def test_wrong_sign_convention_is_reported():

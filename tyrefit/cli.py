@@ -99,8 +99,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="rated load [N]: FNOMIN of the tyre, the 'overload' effect, stiffness estimates")
     p.add_argument("--size", metavar="SIZE", help="tyre size, e.g. 385/65R22.5 or 205/55R16: unloaded radius, width, "
                                                   "aspect ratio, and estimates of mass, inertia and damping")
-    p.add_argument("--cost", choices=("l1", "l2"), default="l2",
-                   help="l1: sum of absolute errors (Komana et al. Eq. 5); l2: ordinary least squares (default)")
+    p.add_argument("--cost", choices=("l1", "l2", "soft_l1", "huber"), default="l2",
+                   help="l1: sum of absolute errors (Komana et al. Eq. 5); l2: ordinary least squares (default); "
+                        "huber, soft_l1: outlier-resistant, on mu scaled by each sweep's noise")
     p.add_argument("--static-part", choices=("peak", "sliding"), default="peak",
                    help="static tests: which part of the static curve feeds the rolling-tyre fit")
     p.add_argument("--out", required=True, metavar="TYRE.tir")
@@ -184,7 +185,7 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--out", required=True, metavar="DIR")
     b.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (tcp://host:8786)")
     b.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: CPU count)")
-    b.add_argument("--cost", choices=("l1", "l2"), default="l2")
+    b.add_argument("--cost", choices=("l1", "l2", "soft_l1", "huber"), default="l2")
     b.add_argument("--model", choices=("pac89", "mf52", "mf61"), default="pac89",
                    help="tyre model family of every tyre written (default pac89)")
     _convention(b)

@@ -598,8 +598,8 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     """
     if model not in ("pac89", "mf52", "mf61"):
         raise DataError(f"unknown model {model!r}; accepted: 'pac89', 'mf52', 'mf61'")
-    if cost not in ("l1", "l2"):
-        raise DataError(f"unknown fit cost {cost!r}; accepted: 'l1', 'l2'")
+    if cost not in ("l1", "l2", "soft_l1", "huber"):
+        raise DataError(f"unknown fit cost {cost!r}; accepted: 'l1', 'l2', 'soft_l1', 'huber'")
     if convention not in ("iso", "sae"):
         raise DataError(f"unknown sign convention {convention!r}; accepted: 'iso', 'sae'")
     if workers is not None and int(workers) < 1:

@@ -66,6 +66,7 @@ Komana, Els, Becker (seed 003), section 4.3 and Eq. 2-5.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 import warnings
@@ -146,6 +147,17 @@ class PartData:
     run: np.ndarray
     n_per_run: np.ndarray  # n of the sweep of each point
     info: dict = field(default_factory=dict)
+    screening: dict = field(default_factory=dict)  # samples left out before the fit (see screen_sweeps)
+
+    @functools.cached_property
+    def norm(self) -> np.ndarray:
+        """Load each point's residual is divided by [N]: the measured Fz, never below half its sweep's median.
+
+        mu = F/Fz with the *measured* load (static-rig loads fall during a push), but a
+        lift-off or glitched sample with a near-zero load would blow its mu residual up
+        without bound; the sweep's median load is the set point the sweep was run at.
+        """
+        return np.maximum(self.fz, 0.5 * _sweep_median(self.fz, self.run))
 
     @property
     def n(self) -> int:
@@ -201,7 +213,7 @@ def _varies(g: pd.Series, tol: float) -> bool:
     return v.size > 0 and float(np.ptp(v)) >= tol
 
 
-def prepare_data(data) -> tuple[dict[str, PartData], dict]:
+def prepare_data(data, *, screen: bool = True) -> tuple[dict[str, PartData], dict]:
     """Split ``data`` into lateral, longitudinal and aligning point sets.
 
     A sweep (``run``) is lateral when its slip angle varies by >= 0.5 deg and
@@ -212,7 +224,9 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
     PAC89 has pure-slip curves only.
     A run whose load is not held (its 5-95 % load range exceeds half its
     median load: a rig's warm-up or load ramp) is left out with a note.
-    Points with NaN in the needed columns or Fz <= 0 are dropped.
+    Points with NaN in the needed columns or Fz <= 0 are dropped.  With
+    ``screen`` (default), lift-off samples and spikes are left out and counted
+    (:func:`screen_sweeps`; the counts are in ``PartData.screening``).
     """
     df, info = _frame(data)
     if info.get("kind") == "static" or ("lateral_displacement" in df and "slip_angle" not in df):
@@ -262,6 +276,11 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
         for c in cols:
             ok &= np.isfinite(sub[c].to_numpy(float))
         sub = sub[ok]
+        spec = PARTS[name]
+        screening = {}
+        if screen:
+            keep, screening = screen_sweeps(sub, spec.force, spec.slip)
+            sub = sub[keep]
         counts = sub.groupby("run")["run"].transform("size").to_numpy()
         sub = sub[counts >= 4]
         if len(sub) < 10:
@@ -270,16 +289,131 @@ def prepare_data(data) -> tuple[dict[str, PartData], dict]:
             info.setdefault("notes", []).append(  # a rig without that channel often writes zeros
                 f"{name}: '{cols[0]}' is zero throughout the sweeps; the {name} part is not fitted")
             continue
-        spec = PARTS[name]
         counts = sub.groupby("run")["run"].transform("size").to_numpy()
         parts[name] = PartData(spec, sub, sub["fz"].to_numpy(float), sub[spec.slip].to_numpy(float),
                                sub["camber"].to_numpy(float), sub[spec.force].to_numpy(float),
-                               sub["run"].to_numpy(), counts.astype(float))
+                               sub["run"].to_numpy(), counts.astype(float), screening=screening)
     if not parts:
         what = info["source"] or "data"
         raise DataError(f"{what}: nothing to fit: need sweeps of slip_angle with fy (and fz), or of slip_ratio "
                         "with fx, each with at least 4 points and a slip span of 0.5 deg / 0.01")
     return parts, info
+
+
+# ------------------------------------------------------------------------------ screening
+#: a sample whose load is below this fraction of its sweep's median load is a lift-off or a glitch
+LOAD_FLOOR = 0.1
+#: a spike departs from the 5-point running median of its sweep by more than SPIKE_K robust sigmas ...
+SPIKE_K = 8.0
+#: ... and by more than this fraction of the sweep's peak |F| (so that a noise-free sweep flags nothing)
+SPIKE_MIN = 0.15
+#: a load spike departs from the running median of the sweep's load by more than this fraction of it
+LOAD_SPIKE = 0.25
+
+
+def _sweep_median(values: np.ndarray, run: np.ndarray) -> np.ndarray:
+    """Median of ``values`` over each point's sweep, one value per point."""
+    return pd.Series(np.asarray(values, float)).groupby(np.asarray(run)).transform("median").to_numpy()
+
+
+def _running_median(v: np.ndarray, group: np.ndarray, width: int = 5) -> np.ndarray:
+    """Running median of ``v`` within contiguous groups (codes ``group``, sorted), mirrored at group ends.
+
+    Vectorised over all groups at once (``scipy.ndimage.median_filter(mode='mirror')``
+    per group gives the same values).
+    """
+    n = len(v)
+    i = np.arange(n)
+    bounds = np.flatnonzero(np.r_[True, group[1:] != group[:-1], True])
+    sizes = np.diff(bounds)
+    lo = np.repeat(bounds[:-1], sizes)
+    hi = np.repeat(bounds[1:] - 1, sizes)
+    h = width // 2
+    j = i[:, None] + np.arange(-h, h + 1)[None, :]
+    j = np.where(j < lo[:, None], 2 * lo[:, None] - j, j)
+    j = np.where(j > hi[:, None], 2 * hi[:, None] - j, j)
+    j = np.clip(j, lo[:, None], hi[:, None])
+    return np.median(v[j], axis=1)
+
+
+def _mad_sigma(e: np.ndarray, group: np.ndarray) -> np.ndarray:
+    """1.4826 x the median absolute deviation of ``e`` within each group, one value per point."""
+    dev = np.abs(e - _sweep_median(e, group))
+    return 1.4826 * _sweep_median(dev, group)
+
+
+def screen_sweeps(df: pd.DataFrame, force: str, slip: str) -> tuple[np.ndarray, dict]:
+    """Samples to keep, and what was left out: lift-off samples, load spikes, force spikes.
+
+    Per sweep (``run``):
+
+    * **lift-off**: Fz below ``LOAD_FLOOR`` (10 %) of the sweep's median load; the
+      mu residual of such a sample divides by almost nothing;
+    * **load spike**: in record order, Fz departs from its 5-point running median by
+      more than max(``LOAD_SPIKE`` x the median load, ``SPIKE_K`` robust sigmas);
+    * **force spike**: in slip order, F departs from its 5-point running median by
+      more than max(``SPIKE_K`` robust sigmas, ``SPIKE_MIN`` x the sweep's peak |F|).
+
+    The robust sigma is 1.4826 x the median absolute deviation of the departures
+    (Hampel's identifier, as in Pearson, "Outliers in process modeling and
+    identification", IEEE TCST 10 (2002) 55-63).  A running median of 5 passes
+    a smooth curve and up to two adjacent spikes untouched, so a clean sweep
+    flags nothing; sweeps of fewer than 5 samples are only checked for lift-off.
+
+    Returns
+    -------
+    keep : ndarray of bool
+    report : dict
+        ``low_load``, ``load_spikes``, ``force_spikes`` (counts), ``runs`` (sweeps
+        touched), ``index`` (row labels left out), ``n`` (samples screened).
+    """
+    n = len(df)
+    if n == 0:
+        return np.ones(0, bool), {"low_load": 0, "load_spikes": 0, "force_spikes": 0, "runs": [], "index": [], "n": 0}
+    run = df["run"].to_numpy()
+    code = pd.factorize(run, sort=True)[0]
+    fz = df["fz"].to_numpy(float)
+    y = df[force].to_numpy(float)
+    x = df[slip].to_numpy(float)
+    med = _sweep_median(fz, code)
+    size = np.bincount(code)[code]
+    low = fz < LOAD_FLOOR * med
+    long_ = size >= 5
+    # loads, in record order within each sweep
+    o = np.argsort(code, kind="stable")
+    dz = np.empty(n)
+    dz[o] = fz[o] - _running_median(fz[o], code[o])
+    lspike = long_ & ~low & (np.abs(dz) > np.maximum(LOAD_SPIKE * med, SPIKE_K * _mad_sigma(dz, code)))
+    # forces, in slip order within each sweep
+    o = np.lexsort((x, code))
+    m = np.empty(n)
+    m[o] = _running_median(y[o], code[o])
+    d = y - m
+    peak = pd.Series(np.abs(m)).groupby(code).transform("max").to_numpy()
+    fspike = long_ & ~low & ~lspike & (np.abs(d) > np.maximum(SPIKE_K * _mad_sigma(d, code), SPIKE_MIN * peak))
+    out = low | lspike | fspike
+    runs = pd.unique(run[out]).tolist()
+    report = {"low_load": int(low.sum()), "load_spikes": int(lspike.sum()), "force_spikes": int(fspike.sum()),
+              "runs": sorted((int(r) if isinstance(r, (int, np.integer)) else r for r in runs), key=str),
+              "index": df.index[out].tolist(), "n": n}
+    return ~out, report
+
+
+def screening_message(part: str, rep: Mapping) -> str | None:
+    """One line saying what :func:`screen_sweeps` left out of ``part``, or None."""
+    bits = []
+    if rep.get("low_load"):
+        bits.append(f"{rep['low_load']} lift-off sample(s) (Fz below {LOAD_FLOOR:.0%} of the sweep's median load)")
+    if rep.get("load_spikes"):
+        bits.append(f"{rep['load_spikes']} load spike(s) (Fz off its running median by > {LOAD_SPIKE:.0%})")
+    if rep.get("force_spikes"):
+        bits.append(f"{rep['force_spikes']} force spike(s) (off the sweep's running median by > {SPIKE_K:g} robust "
+                    f"sigma and > {SPIKE_MIN:.0%} of its peak)")
+    if not bits:
+        return None
+    runs = rep.get("runs", [])
+    return (f"{part}: left out of the fit: {', '.join(bits)}, in {len(runs)} sweep(s) "
+            f"(runs {runs[:8]}{'...' if len(runs) > 8 else ''})")
 
 
 # ------------------------------------------------------------------------- identifiability
@@ -428,7 +562,11 @@ class _Problem:
         lo, hi = d.fz_range
         self.lo, self.hi = lo * 1e-3, hi * 1e-3
         self.w = 1.0 / np.sqrt(d.n_per_run) if cost == "l2" else 1.0 / d.n_per_run
-        self.inv_fz = 1.0 / d.fz
+        self.inv_fz = 1.0 / d.norm
+        self.scale = None  # robust costs: per-point scale of the mu residual (see robust_scale)
+        if cost in ROBUST_LOSSES:
+            self.scale = robust_scale(d)
+            self.w = 1.0 / self.scale
         self.method = "trf"  # dogbox was faster on some problems but took 2400 evaluations on others
         self._build()
 
@@ -521,12 +659,19 @@ class _Problem:
         J = J * (self.w * self.inv_fz)[:, None]
         return J @ self.T[self.used_idx, :]
 
+    def _robust_loss(self, z):
+        """(1/n_s) s_i^2 rho(z) and its first two derivatives: the sweep weighting of the robust costs."""
+        rho = ROBUST_LOSSES[self.cost](z)
+        return rho * (self.scale**2 / self.d.n_per_run)
+
     def solve(self, theta0, *, loss="linear", f_scale=1.0, max_nfev=None, tol=1e-9):
         if len(theta0) == 0:
             return theta0, 0
         if not np.all(np.isfinite(self.residual(theta0))):
             raise FitError(f"{self.spec.name}: the model is not finite at the start values estimated from the data "
                            "(Eq. 2-4 found no force to fit: a flat or zero channel?); check the sweeps and units")
+        if self.scale is not None:
+            loss, f_scale = self._robust_loss, 1.0
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             r = least_squares(self.residual, theta0, jac=self.jac, bounds=(self.lb, self.ub), method=self.method,
@@ -536,7 +681,53 @@ class _Problem:
 
     def objective(self, theta) -> float:
         r = self.residual(theta)
+        if self.scale is not None:
+            return float(np.sum(self._robust_loss(r * r)[0]))
         return float(np.sum(r * r)) if self.cost == "l2" else float(np.sum(np.abs(r)))
+
+    def mu_residual(self, theta) -> np.ndarray:
+        """Unweighted residual on mu = F / load (the load as in :attr:`PartData.norm`)."""
+        p = self.coeffs_of(theta)
+        return (self.spec.model(p, self.d.fz, self.d.slip, self.d.camber) - self.d.y) * self.inv_fz
+
+
+def _huber(z):
+    """Huber's loss on z = (r/s)^2 with its derivatives in z (rows: rho, rho', rho'')."""
+    out = np.empty((3, z.size))
+    small = z <= 1.0
+    sz = np.sqrt(np.where(small, 1.0, z))
+    out[0] = np.where(small, z, 2.0 * sz - 1.0)
+    out[1] = np.where(small, 1.0, 1.0 / sz)
+    out[2] = np.where(small, 0.0, -0.5 / (sz * np.where(small, 1.0, z)))
+    return out
+
+
+def _soft_l1(z):
+    """Pseudo-Huber (soft l1) loss 2 (sqrt(1 + z) - 1) with its derivatives in z."""
+    t = 1.0 + z
+    return np.vstack([2.0 * (np.sqrt(t) - 1.0), t**-0.5, -0.5 * t**-1.5])
+
+
+#: the outlier-resistant costs: rho of z = (r / s)^2, r the mu residual, s = HUBER_K x the sweep's noise
+ROBUST_LOSSES = {"huber": _huber, "soft_l1": _soft_l1}
+#: Huber's tuning constant: 95 % efficiency at Gaussian noise (Huber, Robust Statistics, 1981)
+HUBER_K = 1.345
+COSTS = ("l2", "l1", "soft_l1", "huber")
+
+
+def robust_scale(d: PartData) -> np.ndarray:
+    """Per-point scale s_i of the mu residual for the robust costs: ``HUBER_K`` x the sweep's noise / load.
+
+    The noise of each sweep is :func:`noise_floor`'s (neighbouring points, median
+    absolute deviation: spikes do not inflate it); sweeps too short for it take
+    the pooled value.  Below s the cost is least squares, above it grows linearly.
+    """
+    pooled, per = noise_floor(d)
+    sig = pd.Series(d.run).map(per).to_numpy(float)
+    if not np.isfinite(pooled) or pooled <= 0:
+        pooled = max(1e-3 * float(np.max(np.abs(d.y))), 1e-12)
+    sig = np.where(np.isfinite(sig) & (sig > 0), sig, pooled)
+    return HUBER_K * sig / d.norm
 
 
 #: coefficients whose value 0 switches their term off (load slopes, camber terms, shifts);
@@ -570,6 +761,10 @@ class PartFit:
     noise_per_run: pd.Series
     bounds: dict[str, tuple[float, float]]
     constraints: list[str]
+    #: what the user must see: spikes left out, RMSE far above the noise floor, degenerate sweeps
+    warnings: list[str] = field(default_factory=list)
+    #: coefficients (or 'a1a2@lo'-style end values of a constrained law) that ended at a bound
+    at_bound: list[str] = field(default_factory=list)
 
 
 def _starts(spec: PartSpec, c0: dict[str, float]) -> list[dict[str, float]]:
@@ -683,6 +878,12 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
             th, n = pl1.solve(th, loss="soft_l1", f_scale=fs)
             nfev_total += n
         prob, theta = pl1, th
+    elif cost in ROBUST_LOSSES and len(theta):
+        # outlier-resistant: Huber / soft-l1 on the mu residual scaled by each sweep's noise, from the l2 solution
+        pr = _Problem(d, prob.coeffs_of(theta), want, cost)
+        th, n = pr.solve(pr.theta_of(prob.coeffs_of(theta)))
+        nfev_total += n
+        prob, theta = pr, th
     coeffs = prob.coeffs_of(theta) if len(theta) else dict(prob.base)
     # longitudinal: quadratic E must stay <= 1 over the load range, else refit with b6 = 0
     if spec.name == "longitudinal" and "b6" in want:
@@ -698,9 +899,11 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
             nfev_total += n3
             prob, theta, want = p3, th3, want2
             coeffs = prob.coeffs_of(theta)
+    at_bound = []
     for j, tn in enumerate(prob.theta_names):
         for bound, side in ((prob.lb[j], "lower"), (prob.ub[j], "upper")):
             if np.isfinite(bound) and abs(theta[j] - bound) <= 1e-6 * max(1.0, abs(bound)):
+                at_bound.append(tn)
                 what = (f"{tn.split('@')[0]} at Fz = {prob.lo if tn.endswith('lo') else prob.hi:.3g} kN"
                         if "@" in tn else tn)
                 notes.append(f"{spec.name}: {what} ended at its {side} bound {bound:g} (constraint active: the "
@@ -715,7 +918,28 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
     return PartFit(name=spec.name, coefficients=coeffs, varied=list(want), not_identifiable=why, stderr=stderr,
                    correl=correl, initial=c_init, estimates=est, facts=facts, objective=prob.objective(theta),
                    nfev=nfev_total, seconds=time.perf_counter() - t0, starts=starts_log, notes=notes, data=d,
-                   noise_floor=nf_floor, noise_per_run=nf_runs, bounds=bounds, constraints=constraints)
+                   noise_floor=nf_floor, noise_per_run=nf_runs, bounds=bounds, constraints=constraints,
+                   warnings=_part_warnings(d, coeffs, nf_floor), at_bound=at_bound)
+
+
+#: sweeps with fewer points than this (median) are too short to be slip sweeps
+SHORT_SWEEP = 8
+
+
+def _part_warnings(d: PartData, coeffs: Mapping[str, float], floor: float) -> list[str]:
+    """Warnings of one fitted part: samples left out (lift-off, spikes), degenerate (too short) sweeps."""
+    out = []
+    msg = screening_message(d.part.name, d.screening)
+    if msg:
+        out.append(msg)
+    # (an RMSE far above the noise floor is warned about by FitResult: tyrefit.fitting.result._fit_warnings)
+    per = np.median(d.n_per_run) if d.n else 0
+    n_runs = len(np.unique(d.run))
+    if per < SHORT_SWEEP:
+        out.append(f"{d.part.name}: {n_runs} sweeps of a median {per:.0f} points: too short to be slip sweeps "
+                   "(is the run column a sample or block counter?); the per-sweep start estimates and the 1/n sweep "
+                   "weighting assume sweeps across the slip range")
+    return out
 
 
 def _uncertainty(prob: _Problem, theta) -> tuple[dict[str, float], pd.DataFrame]:
@@ -733,6 +957,9 @@ def _uncertainty(prob: _Problem, theta) -> tuple[dict[str, float], pd.DataFrame]
     if prob.cost == "l1":  # residuals were scaled by 1/n per sweep; use the l2 weighting for s^2
         r = r * np.sqrt(prob.d.n_per_run)
         J = J * np.sqrt(prob.d.n_per_run)[:, None]
+    elif prob.scale is not None:  # robust costs: residuals were scaled by 1/s; use the l2 weighting
+        f = prob.scale / np.sqrt(prob.d.n_per_run)
+        r, J = r * f, J * f[:, None]
     dof = max(1, len(r) - len(theta))
     s2 = float(np.sum(r * r)) / dof
     try:
@@ -750,7 +977,7 @@ def _uncertainty(prob: _Problem, theta) -> tuple[dict[str, float], pd.DataFrame]
 
 # ------------------------------------------------------------------------------ public API
 def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
-              fixed: Mapping[str, float] | None = None, initial=None, tyre_info=None):
+              fixed: Mapping[str, float] | None = None, initial=None, tyre_info=None, screen: bool = True):
     """Fit PAC89 coefficients to tyre test data.
 
     Parameters
@@ -759,9 +986,13 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
         canonical columns (SI, ISO-W): ``fz`` [N], ``fy`` [N] with ``slip_angle``
         [rad] (and optional ``camber`` [rad], ``mz`` [N*m]) and/or ``fx`` [N]
         with ``slip_ratio`` [-]; ``run`` identifies sweeps (derived if absent).
-    cost : {'l2', 'l1'}
-        ordinary least squares (default) or the sum of absolute errors of
-        Komana et al. Eq. 5, both on mu = F/Fz with each sweep weighted 1/n.
+    cost : {'l2', 'l1', 'soft_l1', 'huber'}
+        ordinary least squares (default), the sum of absolute errors of
+        Komana et al. Eq. 5, or an outlier-resistant loss (Huber; soft l1 =
+        pseudo-Huber) whose scale is 1.345 x each sweep's noise floor; all on
+        mu = F/Fz with each sweep weighted 1/n.  Whatever the cost, lift-off
+        samples and spikes are left out first (:func:`screen_sweeps`) and
+        counted in the warnings.
     vary : sequence of str, optional
         coefficients to fit (e.g. ``['a0', 'a2', 'a3', 'a4', 'a7']``); the
         others are held at ``fixed`` / ``initial`` / neutral values.  Parts
@@ -776,6 +1007,10 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
         design data for the tyre file: ``unloaded_radius``, ``width`` [m],
         ``fnomin`` [N], ``lateral_stiffness``, ``vertical_stiffness`` [N/m],
         ``name``, ``tyreside``, ``rolling_resistance``, ``header`` (extra lines).
+    screen : bool
+        leave lift-off samples and spikes out before fitting (default; see
+        :func:`screen_sweeps`; what was left out is in ``FitResult.warnings``
+        and ``FitResult.screening``).  ``False`` fits every sample.
 
     Returns
     -------
@@ -784,15 +1019,17 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
     Raises
     ------
     DataError
-        nothing fittable in the data; ``cost`` not 'l1'/'l2'; unknown names.
+        nothing fittable in the data; ``cost`` not one of COSTS; unknown names;
+        the data's force rises the wrong way with slip (sign convention).
     FitError
-        the fit produced a non-finite result.
+        the fit produced a non-finite result, or a curve that turns over.
     """
     from .result import FitResult
 
     t0 = time.perf_counter()
-    if cost not in ("l1", "l2"):
-        raise DataError(f"cost {cost!r} is not known; accepted: 'l1' (Komana et al. Eq. 5) or 'l2' (least squares)")
+    if cost not in COSTS:
+        raise DataError(f"cost {cost!r} is not known; accepted: 'l2' (least squares), 'l1' (Komana et al. Eq. 5), "
+                        "'soft_l1' or 'huber' (outlier-resistant, on mu scaled by each sweep's noise)")
     fixed = {str(k).lower(): float(v) for k, v in (fixed or {}).items()}
     if initial is not None and hasattr(initial, "valuesdict"):
         initial = initial.valuesdict()
@@ -806,7 +1043,8 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
 
             raise DataError(f"{label}: {', '.join(bad)} not a PAC89 coefficient; accepted a0..a13, b0..b10, c0..c17"
                             + close_matches(bad[0], pac89.ALL))
-    parts, info = prepare_data(data)
+    parts, info = prepare_data(data, screen=screen)
+    _check_data_orientation(parts, info)
     notes = list(info.get("notes", []))
     fits = {}
     for name, d in parts.items():
@@ -825,21 +1063,86 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
                                 initial=initial, seconds=time.perf_counter() - t0)
 
 
+#: ISO-W: a positive slip angle gives a negative lateral force, a positive slip ratio a positive Fx
+_EXPECTED_SIGN = {"lateral": -1.0, "longitudinal": 1.0}
+_SIGN_HINT = {"lateral": "in ISO-W (tyrefit's convention) a positive slip angle gives a negative lateral force. "
+                         "If the file uses the SAE convention (FSAE TTC), pass --convention sae",
+              "longitudinal": "in ISO-W a positive (driving) slip ratio gives a positive longitudinal force; "
+                              "check the sign of the slip ratio or Fx channel"}
+
+
+#: the near-linear slip range of any tyre (3 deg, 3 %) and the least span a sweep must cover in it
+_LINEAR_SLIP = {"lateral": (math.radians(3.0), math.radians(1.0)), "longitudinal": (0.03, 0.01)}
+
+
+def _sweep_slope_signs(d: PartData) -> dict:
+    """Sign of dmu/dslip of each sweep that covers the near-linear range around zero slip.
+
+    Only points within 3 deg (3 % slip ratio) of zero count, where every tyre's
+    force is steep and monotone; a sweep needs 5 of them spanning 1 deg (1 %),
+    and the straight line must explain half their variance (|correlation| >= 0.7).
+    Other sweeps (short, off-centre, flat) are left out.
+    """
+    mu = d.y / d.norm
+    lim, span = _LINEAR_SLIP[d.part.name]
+    out = {}
+    for run, idx in pd.Series(np.arange(d.n)).groupby(d.run, sort=True).indices.items():
+        x, y = d.slip[idx], mu[idx]
+        inner = np.abs(x) <= lim
+        x, y = x[inner], y[inner]
+        if len(x) < 5 or np.ptp(x) < span or np.ptp(y) <= 0:
+            continue
+        c = float(np.corrcoef(x, y)[0, 1])
+        if abs(c) >= 0.7:
+            out[run] = math.copysign(1.0, c)
+    return out
+
+
+def _check_data_orientation(parts: dict[str, PartData], info: dict) -> None:
+    """Refuse data whose force rises the wrong way with slip (a sign-flipped channel or another convention).
+
+    Tested on the data before fitting, because a flexible curve fits reversed data
+    well (a shape factor C near 3 turns the curve over within a fraction of a
+    degree): the fit statistics cannot reveal it.  All sweeps reversed: one
+    error naming the convention; some sweeps reversed: one error naming them.
+    """
+    src = info.get("source", "") or "data"
+    for name, want in _EXPECTED_SIGN.items():
+        d = parts.get(name)
+        if d is None:
+            continue
+        signs = _sweep_slope_signs(d)
+        rev = [int(r) if isinstance(r, (int, np.integer)) else r for r, sg in signs.items() if sg != want]
+        if not rev:
+            continue
+        force = "lateral force" if name == "lateral" else "longitudinal force"
+        slip = "slip angle" if name == "lateral" else "slip ratio"
+        if len(rev) * 2 > len(signs):
+            raise DataError(f"{src}: the {force} {'rises' if want < 0 else 'falls'} with {slip} in "
+                            f"{len(rev)} of {len(signs)} sweeps; {_SIGN_HINT[name]}")
+        raise DataError(f"{src}: sweeps of opposite sign: in runs {rev[:8]}{'...' if len(rev) > 8 else ''} the "
+                        f"{force} {'rises' if want < 0 else 'falls'} with {slip}, in the other {len(signs) - len(rev)} "
+                        "sweeps it does not; a sign-flipped channel or mixed conventions")
+
+
 def _check_orientation(fits: dict[str, PartFit]) -> None:
-    """A lateral fit with a3 > 0 must have the data's initial slope; else the sign convention is wrong."""
-    pf = fits.get("lateral")
-    if pf is None:
-        return
-    d = pf.data
-    x = d.slip * _RAD_TO_DEG
-    near = np.abs(x) <= 2.0
-    if near.sum() < 3 or np.ptp(x[near]) <= 0:
-        return
-    slope_data = np.polyfit(x[near], (d.y / d.fz)[near], 1)[0]
-    fz0 = float(np.median(d.fz))
-    slope_model = float(pac89.lateral_force(pf.coefficients, fz0, math.radians(0.5))
-                        - pac89.lateral_force(pf.coefficients, fz0, math.radians(-0.5)))
-    if np.sign(slope_data) != np.sign(slope_model) and abs(slope_data) > 1e-4:
-        raise DataError(f"{d.info.get('source', '') or 'data'}: the lateral force rises with slip angle; in ISO-W "
-                        "(tyrefit's convention) a positive slip angle gives a negative lateral force. If the file "
-                        "uses the SAE convention (FSAE TTC), pass --convention sae")
+    """The fitted curve must not turn over: at the outer half of the slip range F keeps the ISO-W sign.
+
+    With C > 2 the PAC89 curve changes sign past its peak; a fit of reversed or
+    corrupted data can end there with a good R^2.  Checked at camber 0 over the
+    fitted load range.
+    """
+    for name, want in _EXPECTED_SIGN.items():
+        pf = fits.get(name)
+        if pf is None:
+            continue
+        d = pf.data
+        xmax = float(np.max(np.abs(d.slip)))
+        x = np.concatenate([np.linspace(-xmax, -0.5 * xmax, 9), np.linspace(0.5 * xmax, xmax, 9)])
+        for fz in np.linspace(*d.fz_range, 5):
+            f = d.part.model(pf.coefficients, np.full_like(x, fz), x, 0.0)
+            if np.mean(np.sign(f) == want * np.sign(x)) < 0.5:
+                C = pf.coefficients[d.part.core[0]]
+                raise FitError(f"{d.info.get('source', '') or 'data'}: the fitted {name} curve turns over (its force "
+                               f"has the wrong sign beyond half the slip range at Fz = {fz:.0f} N; C = {C:.3g}): "
+                               "the data do not look like a tyre's force (sign convention, units, channel mix-up?)")

@@ -54,6 +54,9 @@ _FLOOR_SPACING = {"lateral": 1.5, "aligning": 1.5, "longitudinal": 0.03 * _RAD_T
 _PART_COEFS = {"lateral": "a0-a13", "longitudinal": "b0-b10", "aligning": "c0-c17"}
 _PART_NEEDS = {"lateral": "slip-angle sweeps with fy", "longitudinal": "slip-ratio sweeps with fx",
                "aligning": "slip-angle sweeps with mz"}
+_COST_TEXT = {"l2": "least squares on μ", "l1": "sum of absolute μ errors (Komana et al. Eq. 5)",
+             "huber": "Huber loss on μ, scale 1.345 × each sweep's noise",
+             "soft_l1": "soft-l1 (pseudo-Huber) loss on μ, scale 1.345 × each sweep's noise"}
 _DESIGN = ("unloaded_radius", "width", "fnomin", "lateral_stiffness", "vertical_stiffness", "rolling_resistance",
            "name", "tyreside", "vertical_curve")
 
@@ -89,7 +92,16 @@ class FitResult:
         starting coefficients from the estimates.
     notes : list of str
     cost : str
-        'l1' or 'l2'.
+        'l2', 'l1', 'soft_l1' or 'huber'.
+    warnings : list of str
+        what must not be missed: samples left out as lift-off or spikes, an RMSE
+        far above the noise floor, degenerate sweeps (one line each; also in
+        the ``.tir`` header and the Chrono JSON's ``warnings``).
+    screening : dict of str -> dict
+        per part, what :func:`tyrefit.fitting.engine.screen_sweeps` left out
+        (counts ``low_load``, ``load_spikes``, ``force_spikes``; ``runs``; ``index``).
+    at_bound : dict of str -> list of str
+        per part, the fitted parameters that ended at a bound (constraint active).
     """
 
     tyre: Pac89Tyre
@@ -109,6 +121,8 @@ class FitResult:
     warnings: list = field(default_factory=list)
     merged: dict = field(default_factory=dict)
     model_label: str = "PAC89"
+    screening: dict = field(default_factory=dict)
+    at_bound: dict = field(default_factory=dict)
     _parts: dict = field(default_factory=dict, repr=False)
 
     # ------------------------------------------------------------------ construction
@@ -190,12 +204,16 @@ class FitResult:
                     params[k].correl = {j: float(cm[a, b]) for b, j in enumerate(ci) if j != k}
         coef_df = pd.DataFrame(rows)
         merged = _merged_levels(fits)
-        warns = _fit_warnings(coef_df, stats, merged)
+        # the engine's warnings (samples left out, degenerate sweeps) first, then the fit-quality ones
+        warns = list(dict.fromkeys([w for pf in fits.values() for w in getattr(pf, "warnings", [])]
+                                   + _fit_warnings(coef_df, stats, merged)))
         tyre = _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info, warns)
         return cls(tyre=tyre, params=params, coefficients=coef_df, correlations=correl,
                    sweeps=pd.DataFrame(sweep_rows), stats=stats, not_identifiable=not_id, estimates=est,
                    initial=init, notes=list(dict.fromkeys(notes)), cost=cost, source=info.get("source", ""),
-                   seconds=seconds, constraints=constraints, warnings=warns, merged=merged, _parts=fits)
+                   seconds=seconds, constraints=constraints, warnings=warns, merged=merged,
+                   screening={k: dict(pf.data.screening) for k, pf in fits.items()},
+                   at_bound={k: list(getattr(pf, "at_bound", [])) for k, pf in fits.items()}, _parts=fits)
 
     # ------------------------------------------------------------------ convenience
     @property
@@ -286,8 +304,7 @@ class FitResult:
     # ------------------------------------------------------------------ reports
     def summary(self) -> str:
         """Plain-text report: statistics, coefficients, not-identifiable terms, warnings, notes."""
-        L = [f"PAC89 fit ({'Komana et al. Eq. 5, sum |mu error|' if self.cost == 'l1' else 'least squares on mu'})"
-             f" of {self.source or 'data'} in {self.seconds:.2f} s"]
+        L = [f"PAC89 fit ({_COST_TEXT.get(self.cost, self.cost)}) of {self.source or 'data'} in {self.seconds:.2f} s"]
         for name, s in self.stats.items():
             lo, hi = s["fz_range"]
             L.append(f"  {name:<12} {s['n']} points, {s['sweeps']} sweeps, Fz {lo:.0f}-{hi:.0f} N: "
@@ -378,8 +395,7 @@ class FitResult:
         return self.to_html()
 
     def _report_blocks(self, r, figures: bool = True) -> None:
-        r.p(f"Source: {self.source or 'data frame'}; cost: "
-            f"{'sum of absolute μ errors (Komana et al. Eq. 5)' if self.cost == 'l1' else 'least squares on μ'}, "
+        r.p(f"Source: {self.source or 'data frame'}; cost: {_COST_TEXT.get(self.cost, self.cost)}, "
             "each sweep weighted 1/n.", "note")
         r.h2("What the tyre holds")
         r.bullets(self.model_lines())
@@ -792,7 +808,7 @@ def _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info, warns=()) -> 
         ranges["slip_ratio"] = (float(d.slip.min()), float(d.slip.max()))
     src = info.get("source") or "a data frame"
     header = [f"PAC89 tyre fitted by tyrefit {__version__} (tyrefit.fitting.fit_pac89, cost "
-              f"{'l1: Komana et al. Eq. 5' if cost == 'l1' else 'l2: least squares'} on mu = F/Fz)",
+              f"{ {'l1': 'l1: Komana et al. Eq. 5', 'l2': 'l2: least squares'}.get(cost, cost)} on mu = F/Fz)",
               f"source data: {src}" + (f" ({info['kind']})" if info.get("kind") else "")]
     for name, s in stats.items():
         lo, hi = s["fz_range"]

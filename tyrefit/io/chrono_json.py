@@ -181,6 +181,9 @@ def chrono_dict(tyre: Pac89Tyre, mass: float | None = None, inertia=None) -> dic
     doc["Design Parameters"] = design
     for sec, names in _SECTIONS:
         doc[sec] = {k: coeffs[k] for k in names}
+    warns = [h[len("WARNING: "):] for h in tyre.header if h.startswith("WARNING: ")]
+    if warns:  # the fit's warnings (tyrefit.fitting.FitResult.warnings); Chrono ignores unknown keys
+        doc["warnings"] = warns
     return doc
 
 
