@@ -64,7 +64,7 @@ def result_dict(road_mu: float, camber_deg: float, results: dict, manoeuvre, tru
 
 def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
     """HTML report: convergence plots of both models, the truth's traces, the camber sweep."""
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from ..io.report import Report
     from ..sim import vehicle7dof as v7
@@ -84,7 +84,8 @@ def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
         rows.append({"model": res.model, **{f"mu {w}": e for w, e in zip(v7.WHEELS, res.estimates)},
                      "max |error| %": res.max_abs_error_pct, "converged [s]": res.converged_s})
     r.h2("Estimates").table(rows)
-    fig, axs = plt.subplots(1, len(results), figsize=(6 * len(results), 4), sharey=True)
+    fig = Figure(figsize=(6 * len(results), 4))
+    axs = fig.subplots(1, len(results), sharey=True)
     for ax, res in zip(np.atleast_1d(axs), results.values()):
         res.plot(ax)
     r.figure(fig, "Estimated adhesion coefficient of each wheel against time (the paper's Fig. 14-16); "
@@ -92,7 +93,8 @@ def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
     if sweep:
         r.h2("Error against camber (the paper's Fig. 17)")
         cams = sorted(sweep)
-        fig, ax = plt.subplots(figsize=(6.5, 4))
+        fig = Figure(figsize=(6.5, 4))
+        ax = fig.subplots()
         table = []
         for key, style, color in (("improved", "o-", "C0"), ("original", "s--", "C3")):
             mean = [float(np.mean(np.abs(sweep[c][key].relative_error_pct))) for c in cams]
@@ -107,7 +109,8 @@ def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
         r.figure(fig, f"Relative error of the estimates on the mu = {road_mu:g} road against camber.")
         r.table(table)
     t = truth.t
-    fig, axs = plt.subplots(2, 2, figsize=(11, 7))
+    fig = Figure(figsize=(11, 7))
+    axs = fig.subplots(2, 2)
     axs[0, 0].plot(t, truth.state[:, 0], label="vx [m/s]")
     axs[0, 0].plot(t, truth.state[:, 1], label="vy [m/s]")
     axs[0, 0].plot(t, np.rad2deg(truth.delta), label="steer [deg]")

@@ -202,9 +202,11 @@ def _report(result, extras, args, out: Path, rdir: Path | None = None, title: st
                  "fitted coefficients": result.stats[result.parts[0]]["varied"],
                  "RMSE [N]": result.rmse, "R²": result.stats[result.parts[0]]["r2"]}]
         r.table(rows)
-        import matplotlib.pyplot as plt
+        import matplotlib
+        from matplotlib.figure import Figure
 
-        fig, axes = plt.subplots(1, 2, figsize=(12, 4.2), sharey=True)
+        fig = Figure(figsize=(12, 4.2))
+        axes = fig.subplots(1, 2, sharey=True)
         start.plot(axes[0])
         axes[0].set_title("start model")
         result.plot(axes[1])

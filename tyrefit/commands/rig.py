@@ -20,7 +20,8 @@ __all__ = ["run", "calibration_report"]
 
 def calibration_report(cal, static_ds, dynamic_ds, patch_ds, title: str = "Eq. 1 rig calibration"):
     """A :class:`tyrefit.io.report.Report` of a calibration: f, the static data mapped onto the dynamic curves."""
-    import matplotlib.pyplot as plt
+    import matplotlib
+    from matplotlib.figure import Figure
     import numpy as np
 
     from ..nomenclature import G0
@@ -44,14 +45,16 @@ def calibration_report(cal, static_ds, dynamic_ds, patch_ds, title: str = "Eq. 1
             "with load.")
         r.table([{"load [kg]": d["load_N"] / G0, "n alone": d["n_alone"], "u max": d["u_max"],
                   "samples": d["points"]} for d in cal.per_load])
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    fig = Figure(figsize=(6.5, 4.2))
+    ax = fig.subplots()
     cal.plot(ax)
     r.figure(fig, "Eq. 1: slip angle against Delta y / L, uncalibrated and calibrated; shaded: calibrated range.")
     samples = getattr(cal, "_samples", None)
     dyn = getattr(cal, "_dynamic", None)
     if samples is not None and dyn is not None:
-        fig, ax = plt.subplots(figsize=(7, 4.6))
-        colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        fig = Figure(figsize=(7, 4.6))
+        ax = fig.subplots()
+        colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             unc = prepare_static_fit(static_ds, patch_ds).converted

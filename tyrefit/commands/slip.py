@@ -57,7 +57,7 @@ def _summary(a: SlipAnalysis) -> str:
 
 def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)"):
     """An HTML :class:`tyrefit.io.report.Report` of a slip analysis."""
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from ..io.report import Report
 
@@ -72,14 +72,17 @@ def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)")
                  "+/- ": f.k_stderr, "s_c": f.characteristic_slip, "mu_c": f.characteristic_mu,
                  "rmse(mu)": f.rmse, "points": f.n} for f in a.fits]
         r.h2("Friction-slip law per load").table(rows)
-        fig, ax = plt.subplots(figsize=(7, 4.5))
+        fig = Figure(figsize=(7, 4.5))
+        ax = fig.subplots()
         a.plot_friction(ax)
         r.figure(fig, "Friction coefficient against slip: data, fitted Eq. 8, characteristic points (circles).")
-        fig, ax = plt.subplots(figsize=(7, 4.5))
+        fig = Figure(figsize=(7, 4.5))
+        ax = fig.subplots()
         a.plot_curvature(ax)
         r.figure(fig, "Curvature of the fitted laws (Eq. 15); dotted lines mark s_c where it meets nu_c "
                  "(seed 002 Fig. 5).")
-        fig, axs = plt.subplots(1, 2, figsize=(11, 4))
+        fig = Figure(figsize=(11, 4))
+        axs = fig.subplots(1, 2)
         a.plot_mobility(axs[0], modified=False)
         a.plot_mobility(axs[1], modified=True)
         r.figure(fig, "Wheel mobility-agility index mu (1 - mu/mu_p) (Eq. 26, left) and its modified form "
@@ -96,7 +99,8 @@ def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)")
         rad = a.radius
         r.h2("Rolling radius against wheel torque (Eq. 18-20)")
         r.table([{k: v for k, v in rad.as_dict().items() if not isinstance(v, list)}])
-        fig, axs = plt.subplots(1, 2, figsize=(11, 4))
+        fig = Figure(figsize=(11, 4))
+        axs = fig.subplots(1, 2)
         rad.plot(axs[0])
         lw = rad.lambda_w
         axs[1].plot(rad.torque, lw * 1e6, ".")

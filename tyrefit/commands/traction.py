@@ -60,7 +60,7 @@ def traction_dict(table) -> dict:
 
 def traction_report(table, d: dict):
     """HTML report: the tyres, the fit against HPwizard's law, k against the friction ratio."""
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from ..io.report import Report
 
@@ -77,7 +77,8 @@ def traction_report(table, d: dict):
               "R2": fit.r2, "rmse(mu)": fit.rmse},
              {"": "HPwizard", "a": 2.25, "+/- a": float("nan"), "b": 0.15, "+/- b": float("nan"),
               "R2": float("nan"), "rmse(mu)": float("nan")}])
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig = Figure(figsize=(7, 4.5))
+    ax = fig.subplots()
     fit.plot(ax)
     r.figure(fig, "Peak friction from the stopping distances against UTQG treadwear, with the fitted law and "
                   "HPwizard's (seed 000 Fig. 4).")
@@ -87,7 +88,8 @@ def traction_report(table, d: dict):
         f"{ex['points'][1]['mu']:.3f}: {ex['traction_loss_pct']:.1f} % less traction for "
         f"{ex['wear_saving_pct']:.0f} % less wear.")
     pair = d.get("bundled_pair")
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = Figure(figsize=(6, 4))
+    ax = fig.subplots()
     ratio = np.linspace(0.6, 1.0, 200)
     ax.plot(ratio, ratio ** (1 / fit.b), label=f"this fit, b = {fit.b:.3f}")
     ax.plot(ratio, ratio ** (1 / 0.15), "--", label="HPwizard, b = 0.15")

@@ -256,7 +256,7 @@ class BrushComparison:
 
         Returns the report.
         """
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         m = self.improved
         r = report
@@ -293,21 +293,24 @@ class BrushComparison:
                 "dfy_sat_brush_N": "camber at max slip, brush [N]", "dfy_sat_pac89_N": "camber at max slip, PAC89 [N]"}
         r.table(m.cells[list(cols)].rename(columns=cols), digits=4)
         if figures:
-            fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+            fig = Figure(figsize=(11, 3.8))
+            axes = fig.subplots(1, 2)
             loads = m.loads["fz"].to_numpy()
             self.plot_sweeps(loads[0], ax=axes[0])
             self.plot_sweeps(loads[-1], ax=axes[1])
             fig.tight_layout()
             r.figure(fig, "Brush lateral force (points) and the PAC89 fit (lines) at the lowest and highest load, "
                           "one colour per camber.")
-            fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+            fig = Figure(figsize=(11, 3.8))
+            axes = fig.subplots(1, 2)
             self.plot_rmse(ax=axes[0])
             self.plot_camber_thrust(ax=axes[1])
             fig.tight_layout()
             r.figure(fig, "Left: RMSE of the PAC89 fit per sweep, % of the sweep's peak (solid improved model, "
                           "dashed original). Right: camber thrust at zero slip: brush (points), Eq. 20 linear "
                           "limit (dotted), PAC89 (lines).")
-            fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+            fig = Figure(figsize=(11, 3.8))
+            axes = fig.subplots(1, 2)
             self.plot_cornering_stiffness(ax=axes[0])
             self.plot_camber_stiffness(ax=axes[1])
             fig.tight_layout()
@@ -480,17 +483,17 @@ def compare_brush_pac89(params: bm.BrushParams = bm.DEFAULT_PARAMS,
 
 # --- figures --------------------------------------------------------------------------------------
 def _ax(ax, size=(5.5, 3.8)):
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     if ax is None:
-        _, ax = plt.subplots(figsize=size)
+        ax = Figure(figsize=size).subplots()
     return ax
 
 
 def _colours(k):
-    import matplotlib.pyplot as plt
+    import matplotlib
 
-    cmap = plt.get_cmap("viridis")
+    cmap = matplotlib.colormaps["viridis"]
     return [cmap(i / max(k - 1, 1)) for i in range(k)]
 
 

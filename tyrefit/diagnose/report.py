@@ -13,6 +13,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+from matplotlib.figure import Figure
 import pandas as pd
 
 from ..effects import EFFECTS, get_effect
@@ -44,18 +45,8 @@ def _fmt(v, d=3):
     return str(v)
 
 
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def build_report(dg) -> tuple[Report, dict[str, str]]:
     """Build the report of ``dg``; returns the Report and CSV tables (name -> text)."""
-    plt = _plt()
     d = dg.data
     x = d.inputs
     first, last = dg.steps[0], dg.steps[-1]
@@ -82,7 +73,8 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
 
     # -- the loop ----------------------------------------------------------------------
     r.h2("1. The loop: error from the start model to the final model")
-    fig, ax = plt.subplots(figsize=(7, 3.8))
+    fig = Figure(figsize=(7, 3.8))
+    ax = fig.subplots()
     views.plot_waterfall(dg, ax=ax)
     r.figure(fig, "Error waterfall: each bar pair is one model; held-out RMSE predicts whole sweeps the fit "
                   "never saw. The dashed line is the within-sweep noise floor (a separate smooth curve through "
@@ -126,11 +118,12 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
 
     # -- where it fails --------------------------------------------------------------------
     r.h2("3. Where the start model fails, and where the final model still does")
-    fig = plt.figure(figsize=(2.6 * len(views.facets(d)) + 1.2, 5.4))
+    fig = Figure(figsize=(2.6 * len(views.facets(d)) + 1.2, 5.4))
     views.plot_residual_maps(dg, fig=fig)
     r.figure(fig, "Mean residual (model − data) over slip angle and load, one panel per camber/pressure facet; "
                   "top row start model, bottom row final model, one colour scale for all panels.")
-    fig, ax = plt.subplots(figsize=(7.5, 3.4))
+    fig = Figure(figsize=(7.5, 3.4))
+    ax = fig.subplots()
     views.plot_even_odd(dg, ax=ax)
     r.figure(fig, "Even and odd residual parts per sweep. Lateral force is odd in slip angle, so a missing "
                   "shift (offsets, camber thrust) leaves an even residual; a missing stiffness, friction or "
@@ -148,7 +141,8 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
     fc = views.facets(d)
     ncol = min(3, len(fc))
     nrow = int(np.ceil(len(fc) / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.3 * ncol, 3.3 * nrow), squeeze=False)
+    fig = Figure(figsize=(4.3 * ncol, 3.3 * nrow))
+    axes = fig.subplots(nrow, ncol, squeeze=False)
     for k, f in enumerate(fc):
         views.plot_fit(dg, f, ax=axes[k // ncol, k % ncol])
     for k in range(len(fc), nrow * ncol):
@@ -183,7 +177,8 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
     for eid in dg.accepted:
         e = get_effect(eid)
         r.h3(f"{eid} — {e.title}")
-        fig, ax = plt.subplots(figsize=(6, 3.9))
+        fig = Figure(figsize=(6, 3.9))
+        ax = fig.subplots()
         e.plot_signature(views.signature_view(dg, eid), ax=ax)
         r.figure(fig, f"Signature of {eid}: per-sweep characteristic of the data (points), the model without "
                       "the effect (dashed) and with it (solid).")

@@ -6,7 +6,9 @@ labels axes in display units (kN, deg, kPa) and returns what it drew on.
 
 from __future__ import annotations
 
+import matplotlib
 import numpy as np
+from matplotlib.figure import Figure
 import pandas as pd
 
 from ..effects.signatures import SignatureView, sweep_characteristics
@@ -15,15 +17,6 @@ __all__ = ["even_odd", "plot_waterfall", "plot_residual_maps", "plot_even_odd", 
            "plot_cell_rmse", "signature_view", "facets"]
 
 _DEG = np.pi / 180.0
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def even_odd(slip_angle, resid, sweep, n_bins: int = 12) -> pd.DataFrame:
@@ -67,9 +60,8 @@ def even_odd(slip_angle, resid, sweep, n_bins: int = 12) -> pd.DataFrame:
 
 def plot_waterfall(diagnosis, ax=None):
     """RMSE and held-out RMSE [N] from the start model to the final one, against the noise floor."""
-    plt = _plt()
     if ax is None:
-        _, ax = plt.subplots(figsize=(6.5, 3.6))
+        ax = Figure(figsize=(6.5, 3.6)).subplots()
     steps = diagnosis.steps
     labels = ["start\n" + ("+".join(diagnosis.start) or "base PAC89")] + [f"+\n{s.added}" for s in steps[1:]]
     x = np.arange(len(steps))
@@ -122,7 +114,6 @@ def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24
     colour is the mean residual (model - data) [N] in each slip bin and load
     level, on one symmetric colour scale shared by every panel.
     """
-    plt = _plt()
     d = diagnosis.data
     fc = facets(d)
     sts = [diagnosis.steps[i] for i in steps]
@@ -150,7 +141,7 @@ def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24
     vmax = float(np.nanpercentile(np.abs(allv), 98)) if np.isfinite(allv).any() else 1.0
     vmax = max(vmax, 1e-9)
     if fig is None:
-        fig = plt.figure(figsize=(2.6 * len(fc) + 1.2, 2.3 * len(sts) + 0.6))
+        fig = Figure(figsize=(2.6 * len(fc) + 1.2, 2.3 * len(sts) + 0.6))
     axes = fig.subplots(len(sts), len(fc), squeeze=False, sharex=True, sharey=True)
     im = None
     for i, st in enumerate(sts):
@@ -173,9 +164,8 @@ def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24
 
 def plot_even_odd(diagnosis, steps=(0, -1), ax=None):
     """RMS of the even and odd residual parts of every sweep, start vs final model."""
-    plt = _plt()
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 3.4))
+        ax = Figure(figsize=(7, 3.4)).subplots()
     d = diagnosis.data
     x = d.inputs
     order = np.argsort(d.sweep_cells(), kind="stable")
@@ -198,13 +188,12 @@ def plot_even_odd(diagnosis, steps=(0, -1), ax=None):
 
 def plot_fit(diagnosis, facet: tuple[int, int | None], steps=(0, -1), ax=None):
     """Measured Fy against slip angle for one camber/pressure facet, with the start and final models."""
-    plt = _plt()
     if ax is None:
-        _, ax = plt.subplots(figsize=(4.2, 3.2))
+        ax = Figure(figsize=(4.2, 3.2)).subplots()
     d = diagnosis.data
     c, p = facet
     m = _facet_mask(d, c, p)
-    cmap = plt.get_cmap("viridis")
+    cmap = matplotlib.colormaps["viridis"]
     nl = len(d.levels["fz"])
     for k in range(nl):
         mk = m & (d.level_index["fz"] == k)
@@ -228,9 +217,8 @@ def plot_fit(diagnosis, facet: tuple[int, int | None], steps=(0, -1), ax=None):
 
 def plot_cell_rmse(diagnosis, steps=(0, -1), ax=None):
     """RMSE per condition cell [N], start vs final model, with the noise floor."""
-    plt = _plt()
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 3.2))
+        ax = Figure(figsize=(7, 3.2)).subplots()
     for i, (k, col) in enumerate(zip(steps, ("#bbbbbb", "#4c78a8"))):
         t = diagnosis.cell_table(k)
         ax.bar(np.arange(len(t)) + (i - 0.5) * 0.4, t["rmse_N"], 0.4, color=col,

@@ -172,10 +172,11 @@ def _group_label(channel: str, value: float, levels) -> str:
 
 def plot(effect, view: SignatureView, ax=None):
     """Plot ``effect``'s signature view; returns the Axes."""
-    import matplotlib.pyplot as plt
+    import matplotlib
+    from matplotlib.figure import Figure
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(5.5, 3.8))
+        ax = Figure(figsize=(5.5, 3.8)).subplots()
     ych, xc = SIGNATURES[effect.signature]
     yf, ylab = _Y[ych]
     xf, xlab = _X[xc]
@@ -189,7 +190,7 @@ def plot(effect, view: SignatureView, ax=None):
     d = view.data.copy()
     d["_x"] = _levels(d[xc], _TOL[xc])
     d["_g"] = _levels(d[group], _TOL[group]) if group else 0.0
-    cmap = plt.get_cmap("viridis")
+    cmap = matplotlib.colormaps["viridis"]
     # groups where the characteristic is defined (camber stiffness has no value at zero camber)
     groups = sorted(g for g in d["_g"].dropna().unique() if d.loc[d["_g"] == g, ych].notna().any())
     for i, g in enumerate(groups):

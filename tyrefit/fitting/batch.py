@@ -690,9 +690,10 @@ def write_summary(res: BatchResult) -> tuple[Path, Path]:
 
 
 def _quality_figure(rep, ok: list[dict]) -> None:
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
-    fig, axes = plt.subplots(1, 3, figsize=(11, 3.2))
+    fig = Figure(figsize=(11, 3.2))
+    axes = fig.subplots(1, 3)
     for ax, key, label in zip(axes, ("rmse", "r2", "peak_mu"), ("rmse [N]", "R² [-]", "peak μ [-]")):
         v = np.array([r.get(key) for r in ok if r.get(key) is not None], float)
         v = v[np.isfinite(v)]

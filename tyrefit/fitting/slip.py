@@ -87,10 +87,10 @@ class SlipFit:
 
     def plot(self, ax=None, label: str | None = None):
         """Data and fitted law, with the characteristic point (seed 002 Fig. 3); returns the Axes."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots()
+            ax = Figure().subplots()
         line = ax.plot(self.slip, self.mu, ".", ms=3, alpha=0.6)[0]
         lo, hi = (min(0.0, float(np.min(self.slip))), max(0.0, float(np.max(self.slip)))) if self.n else (0, 1)
         s = np.linspace(lo, hi, 300)
@@ -220,10 +220,10 @@ class RadiusFit:
 
     def plot(self, ax=None):
         """Radius against torque with the small-torque law (seed 002 Fig. 6); returns the Axes."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots()
+            ax = Figure().subplots()
         ax.plot(self.torque, self.radius * 1e3, ".", ms=3, label="data")
         t = np.linspace(min(0, self.torque.min()), self.torque_fit_max, 200)
         ax.plot(t, (self.r0 - self.lambda_0 * t - self.lambda_1 * t**2) * 1e3, "-",
@@ -299,20 +299,20 @@ class SlipAnalysis:
 
     def plot_friction(self, ax=None):
         """mu(s) for every load with the characteristic points; returns the Axes."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots()
+            ax = Figure().subplots()
         for f in self.fits:
             f.plot(ax)
         return ax
 
     def plot_curvature(self, ax=None):
         """Curvature of the fitted laws and the characteristic curvature (seed 002 Fig. 5)."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots()
+            ax = Figure().subplots()
         smax = max(float(np.max(np.abs(f.slip))) for f in self.fits)
         s = np.linspace(0, smax, 300)
         for f in self.fits:
@@ -329,10 +329,10 @@ class SlipAnalysis:
 
     def plot_mobility(self, ax=None, modified: bool = True):
         """Mobility-agility index against slip (seed 002 Fig. 7-8); returns the Axes."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots()
+            ax = Figure().subplots()
         smax = max(float(np.max(np.abs(f.slip))) for f in self.fits)
         s = np.linspace(0, smax, 400)
         for f in self.fits:

@@ -15,11 +15,6 @@ import os
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 __all__ = ["Report", "fig_to_png", "esc"]
 
 _CSS = """
@@ -42,10 +37,19 @@ def esc(text: object) -> str:
 
 
 def fig_to_png(fig, dpi: int = 110) -> bytes:
-    """Render a matplotlib figure to PNG bytes and close it."""
+    """Render a matplotlib figure to PNG bytes (a pyplot-managed figure is closed afterwards).
+
+    Library figures are plain :class:`matplotlib.figure.Figure` objects, which
+    render without pyplot and never touch the user's backend (inline Jupyter
+    figures keep working); a figure made with pyplot is closed so that it is
+    not shown again or kept alive by pyplot.
+    """
+    import sys
+
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
+    if "matplotlib.pyplot" in sys.modules and getattr(fig.canvas, "manager", None) is not None:
+        sys.modules["matplotlib.pyplot"].close(fig)
     return buf.getvalue()
 
 

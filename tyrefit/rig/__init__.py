@@ -193,11 +193,12 @@ class StaticFitInput:
 
         ``model`` (a :class:`Pac89Tyre` or a list of ``(label, tyre)``) is drawn at each run's mean load.
         """
-        import matplotlib.pyplot as plt
+        import matplotlib
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(7, 4.6))
-        colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+            ax = Figure(figsize=(7, 4.6)).subplots()
+        colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
         used = "rising" if self.part == "peak" else None
         models = [] if model is None else (model if isinstance(model, list) else [("model", model)])
         styles = ["-", "--", ":", "-."]
@@ -226,7 +227,7 @@ class StaticFitInput:
         pushes (Fig. 5), Eq. 1 and the converted data, the part used and every
         note and range warning.  ``model``: optional fitted tyre(s) to overlay.
         """
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         from .static import __doc__ as static_doc
 
@@ -242,7 +243,8 @@ class StaticFitInput:
             r.p(f"Pressure law across {len(self.patch.fits)} pressures (reference {self.patch.p_ref / 1e5:.2f} bar): "
                 "power law theta_ref (p/p_ref)^m for gradients, breakpoints and widths; linear for intercepts.")
             r.table(self.patch.laws_table(), digits=4)
-        fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+        fig = Figure(figsize=(13, 3.8))
+        axes = fig.subplots(1, 3)
         self.patch.plot(getattr(self, "_patch_df", None), axes=axes)
         r.figure(fig, "Contact-patch length, width and area against load per pressure (cf. seed 003 Fig. 2); "
                       "dotted lines: fitted shoulder (breakpoint) loads.")
@@ -252,7 +254,8 @@ class StaticFitInput:
             r.p(f"VERTICAL_STIFFNESS = {self.vertical_stiffness * 1e-3:.1f} N/mm at {self.fnomin / G0:.0f} kg "
                 "(mean of the loading and unloading tangents: the elastic middle of the hysteresis loop); "
                 f"the Chrono JSON gets the loop's middle as a {len(self.vertical_curve or [])}-point curve.")
-            fig, ax = plt.subplots(figsize=(6.5, 4.5))
+            fig = Figure(figsize=(6.5, 4.5))
+            ax = fig.subplots()
             self.vertical.plot(getattr(self, "_vertical_df", None), ax=ax)
             r.figure(fig, "Vertical force against deflection, loading (solid) and unloading (dashed) (cf. Fig. 3).")
         r.h3("Static lateral push")
@@ -260,7 +263,8 @@ class StaticFitInput:
         r.p(f"LATERAL_STIFFNESS = {self.lateral_stiffness * 1e-3:.1f} N/mm at {self.fnomin / G0:.0f} kg "
             "(tangent at zero displacement of Fy = a + k dy + c dy^3 fitted up to half the static peak force, "
             "interpolated in load).  C from Eq. 2 uses the sliding level as the asymptote y_a.")
-        fig, axes = plt.subplots(1, 2, figsize=(12, 4.2))
+        fig = Figure(figsize=(12, 4.2))
+        axes = fig.subplots(1, 2)
         self.static.plot(axes[0], "mu")
         self.static.plot(axes[1], "fz")
         r.figure(fig, "Left: mu = Fy/Fz with the measured load against lateral displacement; triangles: static "
@@ -269,7 +273,8 @@ class StaticFitInput:
         r.p(self.rig.summary() + ".  L is the contact-patch length at each sample's measured load and the test "
             "pressure.  n is the relaxation length in patch lengths: a rolling tyre at slip angle alpha carries "
             "its carcass deflected sideways by y with tan(alpha) = y / sigma, sigma = C_alpha / C_y.")
-        fig, ax = plt.subplots(figsize=(6.5, 4.2))
+        fig = Figure(figsize=(6.5, 4.2))
+        ax = fig.subplots()
         self.rig.plot(ax, u_max=max(1.2 * float(np.nanmax(np.abs(self.converted["u"]))), 0.1))
         r.figure(fig, "Eq. 1: slip angle against u = Delta y / L, uncalibrated (f = 1) and with the rig calibration.")
         r.h3(f"Part of the static curve used: '{self.part}'")
@@ -278,7 +283,8 @@ class StaticFitInput:
         n_r = int((self.converted["part"] == "rising").sum())
         r.p(f"{len(self.data.df) if hasattr(self.data, 'df') else len(self.data)} samples feed the fit "
             f"({n_r} rising, {len(self.converted) - n_r} sliding in the whole push).")
-        fig, ax = plt.subplots(figsize=(7, 4.6))
+        fig = Figure(figsize=(7, 4.6))
+        ax = fig.subplots()
         self.plot_converted(ax, model)
         r.figure(fig, "Converted static data: mu against the slip angle of Eq. 1 per load; grey samples are not "
                       "used with this part" + ("; lines: fitted model(s)" if model is not None else "") + ".")

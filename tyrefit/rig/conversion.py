@@ -269,10 +269,10 @@ class RigCalibration:
 
     def plot(self, ax=None, u_max: float | None = None):
         """f(u) and alpha(u) against u = Delta y / L, with the calibrated range shaded."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6.5, 4.2))
+            ax = Figure(figsize=(6.5, 4.2)).subplots()
         hi = u_max or (min(3 * self.u_range[1], 3.0) if self.calibrated else 1.0)
         u = np.linspace(0, hi, 300)
         ax.plot(u, np.degrees(eq1_slip_angle(u)), "k--", lw=1, label="f = 1 (uncalibrated)")

@@ -427,13 +427,14 @@ class PatchModel:
         -------
         ndarray of Axes
         """
-        import matplotlib.pyplot as plt
+        import matplotlib
+        from matplotlib.figure import Figure
 
         if axes is None:
-            _, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+            axes = Figure(figsize=(13, 3.8)).subplots(1, 3)
         lo, hi = self.load_range()
         F = np.linspace(0.0, hi * 1.02, 300)
-        colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
         for j, f in enumerate(self.fits):
             c = colors[j % len(colors)]
             lab = f"{f.pressure / 1e5:.1f} bar"

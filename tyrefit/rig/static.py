@@ -142,11 +142,12 @@ class StaticAnalysis:
 
         ``what`` is ``'mu'`` (friction coefficient with the measured Fz), ``'fy'`` [kN] or ``'fz'`` [kN].
         """
-        import matplotlib.pyplot as plt
+        import matplotlib
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6.5, 4.5))
-        colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+            ax = Figure(figsize=(6.5, 4.5)).subplots()
+        colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
         for j, r in enumerate(self.runs):
             c = colors[j % len(colors)]
             g = self.df[self.df["run"] == r.run]

@@ -102,7 +102,7 @@ class StudyResult:
     # -- report ------------------------------------------------------------------------------
     def report(self, title: str = "STTR vs DTTR: a tyre from static tests, calibrated on another"):
         """The study as a :class:`tyrefit.io.report.Report`."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         from ..io.report import Report
 
@@ -126,7 +126,8 @@ class StudyResult:
         r.bullets([f"{k}: {_LABEL[k]}" for k in ("sttr_calibrated", "sttr_uncalibrated", "sttr_sliding", "dttr")])
         for w in self.warnings:
             r.p("Range warning (target static data vs the calibration): " + w, cls="warn")
-        fig, ax = plt.subplots(figsize=(7, 4))
+        fig = Figure(figsize=(7, 4))
+        ax = fig.subplots()
         x = tab["load [kg]"].to_numpy()
         for k, st in (("sttr_calibrated", "C0o-"), ("sttr_uncalibrated", "C3s--"), ("sttr_sliding", "C2^:"),
                       ("dttr", "k.-")):
@@ -144,7 +145,8 @@ class StudyResult:
         r.p("Physically: a rolling tyre at slip angle alpha carries its carcass deflected sideways by y with "
             "tan(alpha) = y / sigma, sigma = C_alpha / C_y its relaxation length; n = sigma / L. f = 1 takes "
             f"sigma = L; the calibration finds sigma = {self.calibration.n:.2f} L at small displacement.")
-        fig, ax = plt.subplots(figsize=(6.5, 4.2))
+        fig = Figure(figsize=(6.5, 4.2))
+        ax = fig.subplots()
         self.calibration.plot(ax)
         r.figure(fig, "Eq. 1 with and without the calibration; shaded: the calibrated range of Delta y / L.")
         r.h2("Effect of the static part used ('peak' vs 'sliding')")
@@ -156,7 +158,8 @@ class StudyResult:
         t = self.table
         r.p(f"Worst load against the dynamic data: 'peak' {t['sttr_calibrated vs data [%]'].max():.2f} %, "
             f"'sliding' {t['sttr_sliding vs data [%]'].max():.2f} %.")
-        fig, ax = plt.subplots(figsize=(7, 4.6))
+        fig = Figure(figsize=(7, 4.6))
+        ax = fig.subplots()
         self.inputs["sttr_sliding"].plot_converted(
             ax, [("part 'peak'", self.fits["sttr_calibrated"].tyre), ("part 'sliding'", self.fits["sttr_sliding"].tyre)])
         r.figure(fig, "Target static data converted with the calibrated Eq. 1 (all samples) and the two fitted models.")
@@ -174,7 +177,6 @@ class StudyResult:
                          "LATERAL_STIFFNESS [N/mm]": (f.tyre.lateral_stiffness or float("nan")) * 1e-3,
                          "VERTICAL_STIFFNESS [N/mm]": (f.tyre.vertical_stiffness or float("nan")) * 1e-3})
         r.table(rows, digits=5)
-        plt.close("all")
         return r
 
 

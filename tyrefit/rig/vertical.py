@@ -165,11 +165,12 @@ class VerticalModel:
 
     def plot(self, data: pd.DataFrame | None = None, ax=None):
         """Force against deflection, loading and unloading, per pressure (seed 003, Fig. 3)."""
-        import matplotlib.pyplot as plt
+        import matplotlib
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6.5, 4.5))
-        colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+            ax = Figure(figsize=(6.5, 4.5)).subplots()
+        colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
         for j, f in enumerate(self.fits):
             c = colors[j % len(colors)]
             if data is not None:

@@ -382,10 +382,10 @@ class AdhesionResult:
 
     def plot(self, ax=None, title: str | None = None):
         """Estimates against time with the true mu (the paper's Fig. 14-16); returns the Axes."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots()
+            ax = Figure().subplots()
         for i, w in enumerate(v7.WHEELS):
             ax.plot(self.t, self.history[:, i], label=f"mu {w}")
         ax.axhline(self.road_mu, color="k", ls="--", lw=1, label=f"road mu = {self.road_mu:g}")

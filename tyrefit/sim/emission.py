@@ -95,10 +95,10 @@ class EmissionFit:
 
     def plot(self, ax=None):
         """Data and fitted quadratic (braking and traction points coloured apart)."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+            ax = Figure(figsize=(6, 4)).subplots()
         brake = self.fx < 0
         ax.plot(self.fx[brake], self.particles[brake], "o", ms=4, label="braking")
         ax.plot(self.fx[~brake], self.particles[~brake], "o", ms=4, label="traction")

@@ -39,9 +39,10 @@ _DISPLAY = {
 
 def _ax(ax):
     if ax is None:
-        import matplotlib.pyplot as plt
+        import matplotlib
+        from matplotlib.figure import Figure
 
-        _, ax = plt.subplots(figsize=(6, 3.5))
+        ax = Figure(figsize=(6, 3.5)).subplots()
     return ax
 
 
@@ -86,12 +87,13 @@ def scenario_figure(result, j: int):
     Curved (Figs. 10-12): lateral force, steering, emission and torque, plus
     the lateral offset of both vehicles.
     """
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     base, low = result.base, result.low_wear
     c, v = result.members[j]
     if result.scenario == "curved":
-        fig, axs = plt.subplots(3, 2, figsize=(12, 10))
+        fig = Figure(figsize=(12, 10))
+        axs = fig.subplots(3, 2)
         plot_axle_channel(base, low, j, "fy", axs[0, 0])
         plot_channel(base, low, j, "steer", axs[0, 1])
         plot_axle_channel(base, low, j, "emission", axs[1, 0])
@@ -99,7 +101,8 @@ def scenario_figure(result, j: int):
         plot_channel(base, low, j, "n", axs[2, 0])
         plot_channel(base, low, j, "vx", axs[2, 1])
     else:
-        fig, axs = plt.subplots(2, 2, figsize=(12, 7))
+        fig = Figure(figsize=(12, 7))
+        axs = fig.subplots(2, 2)
         plot_channel(base, low, j, "vx", axs[0, 0])
         plot_channel(base, low, j, "ax", axs[0, 1])
         plot_axle_channel(base, low, j, "emission", axs[1, 0])
@@ -111,12 +114,13 @@ def scenario_figure(result, j: int):
 
 def braking_figure(result):
     """Speed and deceleration against distance for every braking run, and stopping distances vs the paper."""
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from .scenarios import PAPER_TABLE3
 
     base, low = result.base, result.low_wear
-    fig, axs = plt.subplots(1, 3, figsize=(15, 4))
+    fig = Figure(figsize=(15, 4))
+    axs = fig.subplots(1, 3)
     for j, (c, v) in enumerate(result.members):
         ls = "-" if c == 1.0 else "--"
         for res, color in ((base, BASE_COLOR), (low, LOW_WEAR_COLOR)):

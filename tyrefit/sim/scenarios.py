@@ -23,6 +23,8 @@ difference at equal distance and the largest speed difference at equal time
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -85,7 +87,8 @@ class SimSetup:
         Soft tyre's emission per tyre (Eq. 14); :data:`~tyrefit.sim.emission.DEFAULT_EMISSION` by default.
     traction_b : float
         Exponent b of the treadwear-traction law (Eq. 42) for k (Eq. 43);
-        default: the fit of the bundled braking table, else HPwizard's 0.15.
+        default: the fit of the bundled braking table (an error if it cannot
+        be read); ``'hpwizard'`` for HPwizard's published 0.15.
     k : float, optional
         Hard/soft emission ratio; computed by Eq. 43 from the tyres' peak
         friction at the front axle load when omitted.
@@ -104,7 +107,7 @@ class SimSetup:
     rear: Tyre
     vehicle: VehicleParams = DEFAULT_VEHICLE
     emission: QuadraticEmission = DEFAULT_EMISSION
-    traction_b: float | None = None
+    traction_b: float | str | None = None
     k: float | None = None
     slip_limit: object = field(default_factory=PeakShareSlipLimit)
     comfort: ComfortLimits = field(default_factory=ComfortLimits)
@@ -122,8 +125,14 @@ class SimSetup:
         self.limit_rear = resolve_slip_limit(self.rear, self.slip_limit)
         if self.traction_b is None:
             self.traction_b, self.traction_source = _bundled_traction_b()
+        elif isinstance(self.traction_b, str) and self.traction_b.lower() == "hpwizard":
+            self.traction_b, self.traction_source = HPWIZARD["b"], "HPwizard's published b = 0.15 (chosen)"
         else:
-            self.traction_source = "given"
+            b = float(self.traction_b)
+            if not (math.isfinite(b) and b > 0):
+                raise DataError(f"traction_b = {self.traction_b!r}: the treadwear-traction exponent must be a "
+                                "positive number (HPwizard: 0.15), or 'hpwizard'")
+            self.traction_b, self.traction_source = b, "given"
         self.mu_ratio = self.hard_front.mu_peak / self.soft_front.mu_peak
         if self.k is None:
             self.k = float(emission_ratio(self.hard_front.mu_peak, self.soft_front.mu_peak, self.traction_b))
@@ -189,14 +198,22 @@ class SimSetup:
 
 
 def _bundled_traction_b():
-    try:
-        from ..io.datasets import data_path
-        from .traction import traction_from_data
+    """Exponent b fitted to the bundled braking table; a missing or unreadable table is an error.
 
+    There is no silent fallback: HPwizard's published 0.15 is used only when the
+    caller asks for it (``traction_b="hpwizard"``), and is then reported as such.
+    """
+    from ..errors import TyrefitError
+    from ..io.datasets import data_path
+    from .traction import traction_from_data
+
+    try:
         fit = traction_from_data(data_path("sim", "braking_utqg.csv")).fit
-        return fit.b, "fit of the bundled data/sim/braking_utqg.csv (synthetic)"
-    except Exception:  # noqa: BLE001 - no bundled table: HPwizard's published exponent
-        return HPWIZARD["b"], "HPwizard's published b = 0.15"
+    except (OSError, TyrefitError) as e:
+        raise DataError(f"the treadwear-traction exponent b (Eq. 42) is fitted to the bundled "
+                        f"data/sim/braking_utqg.csv, which could not be used ({e}); pass traction_b=<value>, or "
+                        "traction_b='hpwizard' for HPwizard's published b = 0.15") from e
+    return fit.b, "fit of the bundled data/sim/braking_utqg.csv (synthetic)"
 
 
 @dataclass

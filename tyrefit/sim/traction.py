@@ -127,10 +127,10 @@ class TractionFit:
 
     def plot(self, ax=None):
         """Data, this fit and HPwizard's law over the treadwear range."""
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
 
         if ax is None:
-            _, ax = plt.subplots(figsize=(6, 4))
+            ax = Figure(figsize=(6, 4)).subplots()
         ax.plot(self.treadwear, self.mu, "o", label="tyres (Eq. 41 from stopping distance)")
         tw = np.linspace(min(100.0, self.treadwear.min()), max(900.0, self.treadwear.max()), 300)
         ax.plot(tw, self.predict(tw), "-", label=f"fit: mu = {self.a:.3g} TW^-{self.b:.3g}")

@@ -1,0 +1,296 @@
+"""A small mutation run: do the tests notice when the code is wrong?
+
+Usage (from the repository root; minutes on one core)::
+
+    nice python -m benchmarks.mutation --sample 40 --seed 15 [--root DIR] [--named] [--json OUT]
+
+How it works
+------------
+The repository (``tyrefit/``, ``tests/``, ``data/``, ``pyproject.toml``) is
+copied once to a scratch directory.  Each mutant rewrites one source file there
+and runs the test files that exercise it (``pytest -x -q``, the fast tier) with
+``PYTHONPATH`` pointing at the copy, so ``import tyrefit`` finds the mutant (the
+runner checks this before starting).  A mutant is *killed* when the tests fail
+or exceed their time limit (3x the unmutated run + 20 s), *survives* when they
+pass.  The score is killed / (killed + survived).
+
+Mutation operators (AST, one change per mutant; after Offutt et al., "An
+experimental determination of sufficient mutant operators", ACM TOSEM 5 (1996)):
+
+* arithmetic: ``+`` <-> ``-``, ``*`` <-> ``/``, ``**`` -> ``*``;
+* a term deleted: ``a + b`` -> ``a``, ``a - b`` -> ``a``, ``a * b`` -> ``a``;
+* comparison: ``<`` <-> ``<=``, ``>`` <-> ``>=``, ``==`` <-> ``!=``;
+* boolean: ``and`` <-> ``or``, ``not x`` -> ``x``;
+* unary minus dropped: ``-x`` -> ``x``;
+* number constants: ``0`` <-> ``1``, others ``c`` -> ``2 c``.
+
+Sites are enumerated per file in a fixed order and sampled per file with a
+seed derived from ``--seed`` and the file's path, so that an unchanged file
+gives the same mutants in any checkout: runs before and after new tests can be
+compared mutant by mutant.
+
+``--named`` also runs the hand-written mutants of issue 15 (:data:`NAMED`):
+mutations that survived the suite when the issue was written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import copy
+import hashlib
+import json
+import os
+import random
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+#: modules mutated, and the test files run against each (the fast tier of each file)
+TARGETS = {
+    "tyrefit/models/pac89.py": ["tests/test_pac89.py", "tests/test_fitting.py", "tests/test_mutations.py"],
+    "tyrefit/models/slip.py": ["tests/test_slip.py"],
+    "tyrefit/fitting/engine.py": ["tests/test_fitting.py", "tests/test_robust_fit.py", "tests/test_mutations.py"],
+    "tyrefit/fitting/initial.py": ["tests/test_fitting.py", "tests/test_robust_fit.py"],
+    "tyrefit/io/tir.py": ["tests/test_tir.py", "tests/test_mutations.py"],
+    "tyrefit/io/readers.py": ["tests/test_io_csv.py", "tests/test_io_errors.py"],
+    "tyrefit/io/segment.py": ["tests/test_io_csv.py", "tests/test_io_ttc.py", "tests/test_inspect.py"],
+}
+
+#: the mutations issue 15 found surviving: (name, file, old text, new text, tests)
+NAMED = [
+    ("sweep weighting 1/n dropped from the default cost", "tyrefit/fitting/engine.py",
+     "self.w = 1.0 / np.sqrt(d.n_per_run) if cost == \"l2\" else 1.0 / d.n_per_run",
+     "self.w = 1.0 if cost == \"l2\" else 1.0 / d.n_per_run",
+     ["tests/test_fitting.py", "tests/test_mutations.py"]),
+    ("speed effect's stiffness term deleted", "tyrefit/effects/catalogue.py",
+     "    coef[\"a3\"] = coef[\"a3\"] * relative_factor(x.speed, x.speed_ref, v[\"speed_ky\"])\n",
+     "",
+     ["tests/test_effects.py", "tests/test_mutations.py"]),
+    ("a12 left out of mirrored()", "tyrefit/tyres/pac89.py",
+     "for k in (\"a9\", \"a10\", \"a12\", \"a13\"",
+     "for k in (\"a9\", \"a10\", \"a13\"",
+     ["tests/test_tir.py", "tests/test_compare.py", "tests/test_mutations.py"]),
+    ("89.5 deg slip clamp moved to 30 deg", "tyrefit/models/pac89.py",
+     "X_LIMIT_DEG = 89.5",
+     "X_LIMIT_DEG = 30.0",
+     ["tests/test_pac89.py", "tests/test_mutations.py"]),
+    ("scenarios' treadwear exponent silently replaced by HPwizard's 0.15", "tyrefit/sim/scenarios.py",
+     None, None,  # filled by _named_scenarios (the code under test changed with its fix)
+     ["tests/test_sim_scenarios.py", "tests/test_mutations.py"]),
+]
+
+_OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
+_CMP = {ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt, ast.Eq: ast.NotEq, ast.NotEq: ast.Eq}
+
+
+@dataclass
+class Mutant:
+    file: str
+    site: int
+    what: str
+    line: int
+    source: str = field(repr=False, default="")
+    tests: list = field(default_factory=list)
+    outcome: str = ""
+    seconds: float = 0.0
+
+
+def _docstring_ids(tree) -> set:
+    ids = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                ids.add(id(first.value))
+    return ids
+
+
+def _sites(tree) -> list[tuple[ast.AST, str, str]]:
+    """(node, kind, description) of every mutable place, in a fixed (walk) order."""
+    out = []
+    skip = _docstring_ids(tree)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp) and type(node.op) in _OPS:
+            out.append((node, "op", f"{type(node.op).__name__} -> {_OPS[type(node.op)].__name__}"))
+            if isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
+                out.append((node, "drop", f"{type(node.op).__name__}: right term deleted"))
+        elif isinstance(node, ast.Compare) and len(node.ops) == 1 and type(node.ops[0]) in _CMP:
+            out.append((node, "cmp", f"{type(node.ops[0]).__name__} -> {_CMP[type(node.ops[0])].__name__}"))
+        elif isinstance(node, ast.BoolOp):
+            out.append((node, "bool", f"{type(node.op).__name__} swapped"))
+        elif isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.Not)):
+            out.append((node, "unary", f"{type(node.op).__name__} dropped"))
+        elif (isinstance(node, ast.Constant) and isinstance(node.value, (int, float))
+              and not isinstance(node.value, bool) and id(node) not in skip):
+            out.append((node, "const", f"constant {node.value!r} changed"))
+    return out
+
+
+class _Apply(ast.NodeTransformer):
+    def __init__(self, target, kind):
+        self.target, self.kind = target, kind
+
+    def visit(self, node):
+        node = self.generic_visit(node)
+        if node is not self.target:
+            return node
+        k = self.kind
+        if k == "op":
+            node.op = _OPS[type(node.op)]()
+        elif k == "drop":
+            return node.left
+        elif k == "cmp":
+            node.ops = [_CMP[type(node.ops[0])]()]
+        elif k == "bool":
+            node.op = ast.Or() if isinstance(node.op, ast.And) else ast.And()
+        elif k == "unary":
+            return node.operand
+        elif k == "const":
+            v = node.value
+            node.value = 1 if v == 0 else (0 if v == 1 else v * 2)
+        return node
+
+
+def mutants_of(root: Path, rel: str, k: int, seed: int) -> list[Mutant]:
+    """A seeded sample of ``k`` mutants of file ``rel`` (the same for the same file contents' sites)."""
+    text = (root / rel).read_text()
+    tree = ast.parse(text)
+    sites = _sites(tree)
+    rng = random.Random(int(hashlib.sha256(f"{seed}:{rel}".encode()).hexdigest()[:12], 16))
+    chosen = sorted(rng.sample(range(len(sites)), min(k, len(sites))))
+    out = []
+    for i in chosen:
+        t2 = ast.parse(text)
+        node, kind, what = _sites(t2)[i]
+        line = getattr(node, "lineno", 0)
+        new = ast.fix_missing_locations(_Apply(node, kind).visit(t2))
+        out.append(Mutant(rel, i, what, line, ast.unparse(new), TARGETS[rel]))
+    return out
+
+
+def _named_scenarios(root: Path):
+    """The scenarios mutant: whatever exponent the code computes, use HPwizard's 0.15 instead."""
+    text = (root / "tyrefit/sim/scenarios.py").read_text()
+    for old, new in (("        fit = traction_from_data(data_path(\"sim\", \"braking_utqg.csv\")).fit\n",
+                      "        raise OSError('bundled table unreadable')\n"),):
+        if old in text:
+            return old, new
+    return None, None
+
+
+def named_mutants(root: Path) -> list[Mutant]:
+    out = []
+    for name, rel, old, new, tests in NAMED:
+        if old is None:
+            old, new = _named_scenarios(root)
+        text = (root / rel).read_text()
+        if old is None or old not in text:
+            out.append(Mutant(rel, -1, name, 0, "", tests, outcome="not applicable (code changed)"))
+            continue
+        line = text[: text.index(old)].count("\n") + 1
+        out.append(Mutant(rel, -1, name, line, text.replace(old, new, 1), tests))
+    return out
+
+
+def _run_tests(work: Path, tests: list[str], timeout: float) -> tuple[str, float]:
+    tests = [t for t in tests if (work / t).exists()]
+    env = dict(os.environ, PYTHONPATH=str(work), PYTHONDONTWRITEBYTECODE="1", MPLBACKEND="Agg")
+    t0 = time.perf_counter()
+    try:
+        r = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-m", "not slow",
+                            *tests], cwd=work, env=env, capture_output=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return "killed (timeout)", time.perf_counter() - t0
+    dt = time.perf_counter() - t0
+    if r.returncode == 0:
+        return "survived", dt
+    if r.returncode == 5:  # no tests collected
+        return "no tests", dt
+    return "killed", dt
+
+
+def _copy(root: Path, work: Path) -> None:
+    for name in ("tyrefit", "tests", "data", "benchmarks"):
+        if (root / name).exists():
+            shutil.copytree(root / name, work / name, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    for name in ("pyproject.toml", "conftest.py"):
+        if (root / name).exists():
+            shutil.copy2(root / name, work / name)
+
+
+def run(root: Path, sample: int, seed: int, named: bool, files=None, log=print) -> dict:
+    root = Path(root).resolve()
+    files = files or list(TARGETS)
+    per_file = max(1, round(sample / len(files)))
+    mutants = [m for rel in files for m in mutants_of(root, rel, per_file, seed)]
+    if named:
+        mutants += named_mutants(root)
+    with tempfile.TemporaryDirectory(prefix="tyrefit-mut-") as tmp:
+        work = Path(tmp)
+        _copy(root, work)
+        env = dict(os.environ, PYTHONPATH=str(work))
+        where = subprocess.run([sys.executable, "-c", "import tyrefit; print(tyrefit.__file__)"], cwd=work, env=env,
+                               capture_output=True, text=True).stdout.strip()
+        if not where.startswith(str(work)):
+            raise SystemExit(f"mutants would not be imported: tyrefit resolves to {where}")
+        base = {}
+        for m in mutants:
+            key = tuple(m.tests)
+            if key not in base:
+                outcome, dt = _run_tests(work, m.tests, timeout=3600)
+                if outcome != "survived":
+                    raise SystemExit(f"the unmutated tests {m.tests} do not pass ({outcome}); fix them first")
+                base[key] = dt
+                log(f"baseline {', '.join(m.tests)}: {dt:.1f} s")
+        for m in mutants:
+            if m.outcome:
+                log(f"{m.file}:{m.line} {m.what}: {m.outcome}")
+                continue
+            path = work / m.file
+            original = path.read_text()
+            path.write_text(m.source)
+            try:
+                m.outcome, m.seconds = _run_tests(work, m.tests, timeout=3 * base[tuple(m.tests)] + 20)
+            finally:
+                path.write_text(original)
+            log(f"{m.file}:{m.line} [{m.site}] {m.what}: {m.outcome} ({m.seconds:.1f} s)")
+    counted = [m for m in mutants if m.outcome.startswith(("killed", "survived"))]
+    killed = sum(m.outcome.startswith("killed") for m in counted)
+    sampled = [m for m in counted if m.site >= 0]
+    k_s = sum(m.outcome.startswith("killed") for m in sampled)
+    return {"root": str(root), "seed": seed, "sample": sample, "files": files,
+            "score": killed / len(counted) if counted else float("nan"), "killed": killed, "mutants": len(counted),
+            "sampled_score": k_s / len(sampled) if sampled else float("nan"), "sampled_killed": k_s,
+            "sampled_mutants": len(sampled),
+            "rows": [{"file": m.file, "line": m.line, "site": m.site, "what": m.what, "outcome": m.outcome,
+                      "seconds": round(m.seconds, 2)} for m in mutants]}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--root", default=".", help="repository to mutate (default: here)")
+    ap.add_argument("--sample", type=int, default=40, help="mutants sampled over the target files")
+    ap.add_argument("--seed", type=int, default=15)
+    ap.add_argument("--named", action="store_true", help="also run issue 15's named mutants")
+    ap.add_argument("--files", default="", help="comma-separated subset of the target files")
+    ap.add_argument("--json", default="", help="write the rows here")
+    a = ap.parse_args(argv)
+    files = [f for f in a.files.split(",") if f] or None
+    res = run(Path(a.root), a.sample, a.seed, a.named, files)
+    print(f"mutation score {res['score']:.3f} ({res['killed']}/{res['mutants']} killed); sampled mutants "
+          f"{res['sampled_score']:.3f} ({res['sampled_killed']}/{res['sampled_mutants']})")
+    for r in res["rows"]:
+        if r["outcome"] == "survived":
+            print(f"  survived: {r['file']}:{r['line']} {r['what']}")
+    if a.json:
+        Path(a.json).write_text(json.dumps(res, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
