@@ -581,8 +581,11 @@ def _sweep_slopes(df: pd.DataFrame, var: str, force: str) -> pd.DataFrame:
     x, y = df[var], df[force]
     xm, ym = g[var].transform("mean"), g[force].transform("mean")
     dx, dy = x - xm, y - ym
+    # max |F| of the 5-sample running median (record order): a few spikes are the fitter's to screen
+    # (tyrefit.fitting.engine.screen_sweeps), not a reason to ask whether the loads are in kN
+    absf = y.abs().groupby(df["run"]).transform(lambda v: v.rolling(5, center=True, min_periods=1).median())
     tmp = pd.DataFrame({"run": df["run"], "sxy": dx * dy, "sxx": dx * dx, "syy": dy * dy,
-                        "absf": y.abs(), "fz": df["fz"] if "fz" in df else np.nan})
+                        "absf": absf, "fz": df["fz"] if "fz" in df else np.nan})
     s = tmp.groupby("run", sort=True).agg(n=("sxy", "size"), sxy=("sxy", "sum"), sxx=("sxx", "sum"),
                                           syy=("syy", "sum"), fmax=("absf", "max"), fz=("fz", "median"))
     den = np.sqrt(s["sxx"] * s["syy"])
