@@ -311,3 +311,21 @@ def test_fit_with_an_mz_channel_of_zeros_fits_the_rest(tmp_path, capsys):
     assert main(["fit", str(p), "--out", str(tmp_path / "t.tir")]) == 0
     assert "'mz' is zero throughout" in capsys.readouterr().out
     assert read_tyre(tmp_path / "t.tir").has_lateral
+
+
+def test_mf_fit_does_not_fit_an_mz_channel_of_zeros(tmp_path):
+    """A rig without an Mz transducer writes MZ = 0: fit --model mf61 fitted Mz0 to it (QDZ1 ~ 1e-13, 'R2 nan')."""
+    import pandas as pd
+
+    from tyrefit.fitting.mf import fit_mf
+
+    t = read_tyre(DATA / "mfeval_MagicFormula61_Paramerters.tir")
+    rng = np.random.default_rng(11)
+    rows = []
+    for fz in (3000.0, 6000.0, 9000.0):
+        a = np.linspace(-12, 12, 61)
+        rows.append(pd.DataFrame({"fz": fz, "slip_angle": np.radians(a), "mz": 0.0,
+                                  "fy": t.forces(fz, slip_angle=np.radians(a))["fy"] + rng.normal(0, 60, a.size)}))
+    res = fit_mf(pd.concat(rows, ignore_index=True), model="mf61")
+    assert [str(s).lower() for s in res.stages] == ["fy0"], res.stages
+    assert any("'mz' is zero throughout" in n for n in res.notes)

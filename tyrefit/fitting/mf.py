@@ -366,6 +366,11 @@ def prepare_mf_data(data, *, convention: str = "iso") -> MFData:
             if c not in df:
                 d[c] = 0.0
         d["camber"] = d["camber"].fillna(0.0)
+        for c in _CHANNELS:  # a rig without a channel often writes zeros: not a measured zero moment
+            v = d[c].to_numpy()
+            if c in df and np.isfinite(v).any() and not np.any(np.abs(v[np.isfinite(v)]) > 0):
+                d[c] = np.nan
+                notes.append(f"{src}: '{c}' is zero throughout; it is not fitted")
         if "run" in df:
             run = pd.to_numeric(df["run"], errors="coerce").fillna(-1).astype(int).to_numpy()
         else:
