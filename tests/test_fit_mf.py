@@ -215,6 +215,7 @@ def test_recovery_ten_seeds_worst_case():
     for seed in range(10, 20):
         r = fit_mf(gen.make_sweeps(seed=seed), tyre_info=INFO)
         err = recovery_error(r.params)
+        print(f"seed {seed} [% of peak]:", {c: round(v, 3) for c, v in err.items()})
         worst = {c: max(worst[c], err[c]) for c in worst}
     print("worst over 10 seeds [% of peak]:", {c: round(v, 3) for c, v in worst.items()})
     for c in ("fx", "fy", "mz", "my"):

@@ -176,6 +176,9 @@ STAGES: tuple[Stage, ...] = (
     Stage("Fx", "fx", ("combined",), FXC, ("RBX1", "RBX2", "RCX1")),
     Stage("Fy", "fy", ("combined", "longitudinal"), FYC, ("RBY1", "RBY2", "RCY1")),
     Stage("Mz", "mz", ("combined", "longitudinal"), MZC, ("SSZ1", "SSZ2"), moment=True),
+    # combined Mz carries the errors of the pure trail and of the combined forces: a last polish of every Mz
+    # coefficient on every sweep with Mz (pure and combined), from the staged values, no multi-start
+    Stage("Mz*", "mz", ("lateral", "combined", "longitudinal"), MZ0 + MZC, (), moment=True),
     Stage("Mx", "mx", ("lateral", "combined", "longitudinal"), MX, MX_LINEAR, moment=True),
     Stage("My", "my", ("longitudinal", "combined"), MY, ("QSY1", "QSY2"), moment=True),
 )
@@ -639,6 +642,11 @@ class _Eval:
             self.alpha[:] = 0.0
         elif stage.pure == "kappa":
             self.kappa[:] = 0.0
+        elif "kind" in pts:  # mixed stages: pure-slip sweeps as pure slip, as they are fitted and reported
+            kind = pts["kind"].to_numpy()
+            self.kappa[kind == "lateral"] = 0.0
+            self.alpha[kind == "longitudinal"] = 0.0
+        self.joint = stage.name == "Mz*"
         self.gamma = pts["camber"].to_numpy(float)
         pr = pts["pressure"].to_numpy(float)
         self.pressure = np.where(np.isfinite(pr), pr, nominal.get("NOMPRES", np.nan)) if np.isfinite(pr).any() \
@@ -700,7 +708,8 @@ class _Eval:
             gyk, svyk = mf._gyk(c, b, k["fyp"]["muy"])
             y = gyk * k["fyp"]["fy0"] + svyk                                    # (4.E58)
         elif self.channel == "mz":
-            y, _, _ = mf._mz(c, b, k["mzp"], k["fy_prime"], k["kxk"], k["fx"], k["fy"])
+            mzp = mf._mz_parts(c, b, k["fyp"]) if self.joint else k["mzp"]  # the joint Mz polish moves Mz0 too
+            y, _, _ = mf._mz(c, b, mzp, k["fy_prime"], k["kxk"], k["fx"], k["fy"])
         elif self.channel == "mx":
             y = mf._mx(c, b, k["fy"])
         else:
@@ -971,6 +980,8 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     sw = data.sweeps[data.sweeps["run"].isin(runs)]
     if len(pts) < 10 or not len(sw):
         return None
+    if stage.name == "Mz*" and not (sw["kind"] == "combined").any():
+        return None
     est = pd.DataFrame()
     any_peak = True
     init: dict[str, float] = {}
@@ -982,7 +993,10 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
             init = _initial_mz(pts, nominal)
     elif stage.name in ("Fx", "Fy"):
         init = {k: _TYPICAL[k] for k in ("RBX1", "RBX2", "RCX1", "RBY1", "RBY2", "RCY1") if k in stage.names}
-    why, facts = identifiability(stage, pts, sw, any_peak=any_peak, version=version)
+    if stage.name == "Mz*":  # the joint polish varies what the Mz0 and Mz stages found identifiable
+        why, facts = {}, {"points": int(len(pts)), "sweeps": int(len(sw))}
+    else:
+        why, facts = identifiability(stage, pts, sw, any_peak=any_peak, version=version)
     names = [k for k in stage.names if k in _known_names()]
     want = [k for k in names if k not in why]
     if vary_only is not None:
@@ -1001,7 +1015,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     scale = nominal.get("UNLOADED_RADIUS", 0.3) if stage.moment else 1.0
     pkysign = base.get("PKY1", -1.0)
     core = [k for k in stage.core if k in want]
-    starts = _starts(stage, base) if multistart else [base]
+    starts = _starts(stage, base) if multistart and stage.name != "Mz*" else [base]
     log, best = [], None
     nfev = 0
     # the multi-start runs on at most _START_POINTS points per sweep; the winner is polished on all points
@@ -1158,6 +1172,10 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
             if stages is not None and st.name not in stages:
                 continue
             only = None
+            if st.name == "Mz*":
+                if not all(k in fits and fits[k].varied for k in ("Mz0", "Mz")):
+                    continue
+                only = fits["Mz0"].varied + fits["Mz"].varied
             if st.name == "Fy0" and eff_vary is not None:
                 only = list(eff_vary)
             if vary_set is not None:

@@ -197,8 +197,8 @@ class FitResultMF:
 
         from .mf import STAGES
 
-        not_fitted = [s.name.lower() for s in STAGES
-                      if s.name not in self.stages or not self.stages[s.name].varied]
+        not_fitted = [s.name.lower() for s in STAGES if s.name != "Mz*"
+                      and (s.name not in self.stages or not self.stages[s.name].varied)]
         held = sorted(k for k in self.not_identifiable if k not in self.fitted
                       and any(k in self.stages[s].held for s in self.stages if self.stages[s].varied))
         if held:
