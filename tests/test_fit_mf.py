@@ -278,3 +278,4 @@ def test_constraints_checked_on_the_grid_of_the_fitted_range(full_fit):
     bad = dict(r.params, PEY1=1.2)
     ey = dict((n, v) for n, v, _ in _factors(bad, "Fy0", fz, 0.0 * fz, 0.0 * fz, np.ones(2)))["E_y <= 1"]
     assert np.min(ey) < 0
+

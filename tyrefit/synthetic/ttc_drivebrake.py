@@ -2,10 +2,12 @@
 
 Nothing written here is a measurement.  The tyre is a *published* Magic
 Formula 6.1 parameter set, :data:`PUBLISHED_MF61`: the example property file
-``MagicFormula61_Parameters.tir`` distributed with MFeval (Marco Furlan,
-MFeval, MathWorks File Exchange / GitHub; a 255/55-size tyre, FNOMIN 6752 N,
-NOMPRES 260 kPa, produced with OptimumT), as reproduced in public
-repositories (e.g. girish-radhakrishnan-250894/slip_angle_control @ 598f2c2).
+``MagicFormula61_Parameters.tir`` of MFeval (Marco Furlan Tassara; a
+255/55-size tyre, FNOMIN 6752 N, NOMPRES 260 kPa, made with OptimumT), in
+the version published in girish-radhakrishnan-250894/slip_angle_control @
+598f2c2 (transcribed unchanged).  MFeval 4.0's own copy of that file
+(``tests/data/mfeval_MagicFormula61_Paramerters.tir``) carries different
+values (another fit of the same tyre); either is a published set.
 Forces and moments come from :func:`tyrefit.models.mf61.forces` at the
 *actual* load, slips, camber, pressure and speed of every sample; the
 recorded channels then get sensor noise.
@@ -37,7 +39,8 @@ FX, FY; 1 % + 0.5 N m on MZ, MX; 0.3 kPa on P.
 
 References
 ----------
-MFeval (M. Furlan), example file ``MagicFormula61_Parameters.tir`` (FITTYP 61);
+MFeval (M. Furlan Tassara), example file ``MagicFormula61_Parameters.tir`` (FITTYP 61), as in
+girish-radhakrishnan-250894/slip_angle_control @ 598f2c2;
 Pacejka & Besselink (2012), *Tire and Vehicle Dynamics*, 3rd ed., 4.3.2.
 """
 
