@@ -329,3 +329,11 @@ def test_mf_fit_does_not_fit_an_mz_channel_of_zeros(tmp_path):
     res = fit_mf(pd.concat(rows, ignore_index=True), model="mf61")
     assert [str(s).lower() for s in res.stages] == ["fy0"], res.stages
     assert any("'mz' is zero throughout" in n for n in res.notes)
+
+
+def test_pac89_forces_at_a_subnormal_load_are_zero_not_nan():
+    """Found by the fuzz test: Fz = 5e-324 N gave NaN (kN units: D underflows to 0, B = 0/0)."""
+    t = read_tyre(DATA / "ref_adams_pac89_example.tir")
+    f = t.forces(np.array([5e-324, 0.0, 1e-3]), slip_angle=0.05, slip_ratio=0.05)
+    assert all(np.all(np.isfinite(v)) for v in f.values()), f
+    assert f["fy"][0] == 0.0 and f["fx"][0] == 0.0 and abs(f["fy"][2]) < 1e-2

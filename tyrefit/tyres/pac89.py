@@ -117,11 +117,13 @@ class Pac89Tyre(Tyre):
         """Fx, Fy [N] and Mz [N*m] in ISO-W (pure slip; see the class notes for Chrono's limits).
 
         ``pressure`` and ``speed`` are accepted for the interface and have no
-        effect: PAC89 has neither.  Points with ``fz <= 0`` give zeros.
+        effect: PAC89 has neither.  Points with ``fz <= 0`` (below 1 nN) give zeros.
         """
         fz, sa, sr, cam = np.broadcast_arrays(*(np.asarray(x, dtype=float)
                                                 for x in (fz, slip_angle, slip_ratio, camber)))
-        on = fz > 0
+        # off the ground below a nanonewton: PAC89 works in kN, and for a subnormal load (5e-324 N, found by
+        # the fuzz test) D = a1 Fz^2 + a2 Fz underflows to 0 and B = BCD / (C D) is 0/0
+        on = fz > 1e-9
         fzs = np.where(on, fz, 1.0)  # any positive load where off the ground; zeroed below
         c = self.coefficients
         with np.errstate(all="ignore"):
