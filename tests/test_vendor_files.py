@@ -336,4 +336,4 @@ def test_pac89_forces_at_a_subnormal_load_are_zero_not_nan():
     t = read_tyre(DATA / "ref_adams_pac89_example.tir")
     f = t.forces(np.array([5e-324, 0.0, 1e-3]), slip_angle=0.05, slip_ratio=0.05)
     assert all(np.all(np.isfinite(v)) for v in f.values()), f
-    assert f["fy"][0] == 0.0 and f["fx"][0] == 0.0 and abs(f["fy"][2]) < 1e-2
+    assert f["fy"][0] == 0.0 and f["fx"][0] == 0.0  # (at 1 mN the model's constant offsets a12/a13 remain)
