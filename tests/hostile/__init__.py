@@ -640,6 +640,16 @@ def _cases_commands() -> list[Case]:
              {"f.tir": (DATA / "sim/hard_front.tir").read_text()}, "error", r"input"))
     C += _output_cases("sim braking", ["sim", "braking"], {}, "sim braking", json_name="s.json",
                        ok_check=_braking_ok, ok_timeout=180)
+    def scenario_ok(d):
+        rows = json.loads((d / "s.json").read_text())["rows"]
+        bad = [r for r in rows if not (-100 <= r["reduction_pct"] <= 100 and 0 <= r["max_path_difference_m"] < 5
+                                       and r["emission_base"] > 0 and r["emission_low_wear"] > 0)]
+        return not bad and len(rows) >= 6, f"{len(rows)} rows, {len(bad)} implausible (reduction, path, emission)"
+    add(Case("sim curved default tyres", "sim", ["sim", "curved", "--json", "{d}/s.json"], {}, "ok",
+             check=scenario_ok, timeout=300))
+    add(Case("sim straight with the bundled tyres given explicitly", "sim",
+             ["sim", "straight", "--front", tyres[0], "--rear", tyres[1], "--json", "{d}/s.json"], {}, "ok",
+             check=scenario_ok, timeout=300))
     add(Case("sim curved --report names a file", "sim", ["sim", "curved", "--report", "{d}/r"], {"r": "x\n"},
              "error", r"(?i)is a file", origin="issue 15"))
     add(Case("sim straight --json exists", "sim", ["sim", "straight", "--json", "{d}/s.json"], {"s.json": "{}"},
@@ -719,6 +729,34 @@ def _cases_commands() -> list[Case]:
     add(Case("rig calibrate --report names a file", "rig calibrate", [*rig, "--out", "{d}/rig.json", "--report",
                                                                       "{d}/r"], {"s.csv": GOOD, "r": "x"}, "error",
              r"(?i)is a file"))
+    truck = "{data}/truck/tyre_a_"
+    rig_ok = ["rig", "calibrate", "--static", truck + "static.csv", "--dynamic", truck + "dynamic.csv", "--patch",
+              truck + "patch.csv"]
+
+    def rig_json_ok(d):
+        doc = json.loads((d / "rig.json").read_text())
+        return doc.get("tyrefit") == "rig calibration", "rig.json written"
+    add(Case("rig calibrate bundled truck tyre A", "rig calibrate", [*rig_ok, "--out", "{d}/rig.json", "--report",
+                                                                     "{d}/r"], {}, "ok",
+             check=_and(rig_json_ok, _exists("r/index.html")), timeout=240))
+    add(Case("rig calibrate static file with BOM and CRLF", "rig calibrate",
+             ["rig", "calibrate", "--static", "{d}/s.csv", "--dynamic", truck + "dynamic.csv", "--patch",
+              truck + "patch.csv", "--out", "{d}/rig.json"],
+             {"s.csv": BOM + (DATA / "truck/tyre_a_static.csv").read_text().replace("\n", "\r\n")}, "ok",
+             check=rig_json_ok, timeout=240))
+    add(Case("rig calibrate --out exists, --force over an old run keeps a user file in --report", "rig calibrate",
+             [*rig_ok, "--out", "{d}/rig.json", "--report", "{d}/r", "--force"],
+             {"rig.json": "{}", "r": _dir, "r/mine.txt": "mine\n"}, "ok",
+             check=_and(rig_json_ok, _unchanged("r/mine.txt", "mine\n")), may_change=("rig.json",), timeout=240))
+    add(Case("fit static tyre B with --patch", "fit", ["fit", "{data}/truck/tyre_b_static.csv", "--patch",
+                                                       "{data}/truck/tyre_b_patch.csv", "--out", "{d}/b.tir"], {},
+             "ok", check=_exists("b.tir"), timeout=240))
+    add(Case("fit static test without --patch", "fit", ["fit", "{data}/truck/tyre_b_static.csv", "--out",
+                                                        "{d}/b.tir"], {}, "error", r"--patch"))
+    add(Case("fit static with --patch equal to --out, --force", "fit",
+             ["fit", "{d}/s.csv", "--patch", "{d}/p.tir", "--out", "{d}/p.tir", "--force"],
+             {"s.csv": (DATA / "truck/tyre_b_static.csv").read_text(),
+              "p.tir": (DATA / "truck/tyre_b_patch.csv").read_text()}, "error", r"input"))
     # demo
     add(Case("demo --out names a file", "demo", ["demo", "--out", "{d}/f"], {"f": "x\n"}, "error", r"(?i)is a file"))
     add(Case("demo --out holds a user file, no --force", "demo", ["demo", "--out", "{d}/r"],
