@@ -714,6 +714,61 @@ def _cases_commands() -> list[Case]:
                                                    "{d}/r"], {"d.csv": GOOD}, "ok",
              check=_and(json_has("o.json", "start", "accepted", "noise_floor", "steps", "candidates"),
                         _exists("r/index.html")), timeout=300))
+    # edge cases of the analysis commands
+    arr0, arrf = sweeps_frame(), sweeps_frame()
+    arr0[:, 2] = 0.0
+    arrf[:, 2] *= -1
+    one = "\n".join(GOOD.splitlines()[:42]) + "\n"  # one sweep
+    add(Case("diagnose one sweep", "diagnose", ["diagnose", "{d}/d.csv", "--json", "{d}/o.json"], {"d.csv": one},
+             "ok", check=json_has("o.json", "start", "accepted", "noise_floor", "steps", "candidates"), timeout=300))
+    add(Case("diagnose lateral force stuck at zero", "diagnose", ["diagnose", "{d}/d.csv", "--json", "{d}/o.json"],
+             {"d.csv": sweeps_csv(arr=arr0)}, "error", r"(?i)constant"))
+    add(Case("diagnose sign-flipped data", "diagnose", ["diagnose", "{d}/d.csv", "--json", "{d}/o.json"],
+             {"d.csv": sweeps_csv(arr=arrf)}, "error", r"(?i)sign"))
+    add(Case("diagnose --start unknown effect", "diagnose", ["diagnose", "{d}/d.csv", "--start", "warp",
+                                                             "--json", "{d}/o.json"], {"d.csv": GOOD}, "error",
+             r"(?i)warp|effect"))
+    slip_text = (DATA / "slip/slip_ratio.csv").read_text()
+    sl = slip_text.splitlines()
+    hdr = next(i for i, ln in enumerate(sl) if ln.startswith("run,"))
+    cols = sl[hdr].split(",")
+    fxi = cols.index("fx [N]")
+
+    def with_fx(f):
+        body = []
+        for ln in sl[hdr + 1:]:
+            c = ln.split(",")
+            c[fxi] = f(float(c[fxi]))
+            body.append(",".join(c))
+        return "\n".join(sl[:hdr + 1] + body) + "\n"
+    add(Case("slip fx stuck at zero", "slip", ["slip", "{d}/s.csv"], {"s.csv": with_fx(lambda v: "0")}, "error",
+             r"(?i)constant"))
+    add(Case("slip fx sign-flipped", "slip", ["slip", "{d}/s.csv"], {"s.csv": with_fx(lambda v: f"{-v:g}")},
+             "error", r"(?i)sign"))
+    add(Case("slip fx in kN labelled [N]", "slip", ["slip", "{d}/s.csv"],
+             {"s.csv": with_fx(lambda v: f"{v / 1000:g}")}, "error", r"(?i)kN"))
+    add(Case("slip slip ratio in percent", "slip", ["slip", "{d}/s.csv", "--json", "{d}/s.json"],
+             {"s.csv": "\n".join(sl[:hdr] + [sl[hdr].replace("slip_ratio [-]", "slip_ratio [%]")] + [
+                 ",".join(f"{float(x) * 100:g}" if j == cols.index("slip_ratio [-]") else x
+                          for j, x in enumerate(ln.split(","))) for ln in sl[hdr + 1:]]) + "\n"}, "ok",
+             check=_slip_ok))
+    add(Case("slip a single sweep", "slip", ["slip", "{d}/s.csv", "--json", "{d}/s.json"],
+             {"s.csv": "\n".join(sl[:hdr + 1] + [ln for ln in sl[hdr + 1:] if ln.split(",")[0] == sl[hdr + 1]
+                                                  .split(",")[0]]) + "\n"}, "ok", check=_slip_ok))
+    br = (DATA / "sim/braking_utqg.csv").read_text().splitlines()
+    add(Case("traction one tyre only", "traction", ["traction", "{d}/b.csv"], {"b.csv": "\n".join(br[:4]) + "\n"},
+             "error", r"(?i)at least|too few|tyres"))
+    add(Case("traction negative stopping distance", "traction", ["traction", "{d}/b.csv"],
+             {"b.csv": "\n".join(br[:3] + [br[3].replace(",80.5,", ",-80.5,")] + br[4:]) + "\n"}, "error",
+             r"(?i)stopping|range"))
+    add(Case("traction with BOM", "traction", ["traction", "{d}/b.csv", "--json", "{d}/t.json"],
+             {"b.csv": BOM + "\n".join(br) + "\n"}, "ok", check=_traction_ok))
+    add(Case("sim adhesion camber 5 deg", "sim", ["sim", "adhesion", "--camber", "5", "--json", "{d}/a.json"], {},
+             "ok", check=_adhesion_ok(0.8), timeout=240))
+    add(Case("compare --data static push without patch", "compare",
+             ["compare", *tyres, "--data", "{data}/truck/tyre_b_static.csv"], {}, "error", r"(?i)patch|static"))
+    add(Case("compare the same tyre twice", "compare", ["compare", tyres[0], tyres[0], "--json", "{d}/c.json"], {},
+             "ok", check=_compare_ok))
     # rig calibrate
     rig = ["rig", "calibrate", "--static", "{d}/s.csv", "--dynamic", "{data}/truck/tyre_a_dynamic.csv", "--patch",
            "{data}/truck/tyre_a_patch.csv"]
