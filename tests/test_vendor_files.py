@@ -337,3 +337,19 @@ def test_pac89_forces_at_a_subnormal_load_are_zero_not_nan():
     f = t.forces(np.array([5e-324, 0.0, 1e-3]), slip_angle=0.05, slip_ratio=0.05)
     assert all(np.all(np.isfinite(v)) for v in f.values()), f
     assert f["fy"][0] == 0.0 and f["fx"][0] == 0.0  # (at 1 mN the model's constant offsets a12/a13 remain)
+
+
+def test_mf52_file_with_mf61_only_coefficients_says_they_are_not_used(tmp_path):
+    """teasit's 'v52' FSAE export (FITTYP = 6) carries PPX1..PPY5, PKY5, PEY5: MF 5.2 does not use them, and
+    MFeval's FITTYP 6 path does (19 % of peak Fx apart at INFLPRES 80 kPa vs NOMPRES 98 kPa): say so."""
+    from tyrefit.tyres.mf import _MF61_ONLY
+
+    t = read_tyre(GENERIC)
+    assert not any("MF 6.1-only" in w for w in t.warnings())
+    for k in _MF61_ONLY:  # each listed key really is unused by the 5.2 equations
+        t2 = read_tyre(GENERIC)
+        t2.params[k] = t2.params.get(k, 0.0) + 0.37
+        f, g = t2.forces(30000.0, 0.05, 0.05, 0.03), t.forces(30000.0, 0.05, 0.05, 0.03)
+        assert all(f[c] == g[c] for c in f), k
+    t.params.update(PPX1=-4.4, PKY5=83.0)
+    assert any("MF 6.1-only" in w and "PPX1, PKY5" in w for w in t.warnings())

@@ -229,8 +229,17 @@ class MFTyre(Tyre):
         return problems
 
     def warnings(self, n: int = 41) -> list[str]:
-        """Questionable but evaluable: E > 1, Kxk <= 0, Kya = 0 or changing sign, or mu > 5 inside the range."""
-        return self._factor_problems(n, hard=False)
+        """Questionable but evaluable: E > 1, Kxk <= 0, Kya = 0 or changing sign, or mu > 5 inside the range;
+        MF 6.1-only coefficients in an MF 5.2 file, which the 5.2 equations do not use."""
+        out = self._factor_problems(n, hard=False)
+        if self.family == "MF52":
+            unused = [k for k in _MF61_ONLY if self.params.get(k, 0.0) != 0.0]
+            if unused:
+                out.append(f"MF 5.2 file with MF 6.1-only coefficients the 5.2 equations do not use: "
+                           f"{', '.join(unused[:12])}{' ...' if len(unused) > 12 else ''} (MFeval's FITTYP 6 "
+                           "path applies the pressure, PKY5 and PEY5 terms; tyrefit evaluates MF 5.2 as its manual "
+                           "defines it)")
+        return out
 
     def _factor_problems(self, n: int, hard: bool) -> list[str]:
         v = self.validity()
@@ -290,6 +299,13 @@ class MFTyre(Tyre):
 
     def coefficient_table(self) -> list[dict]:
         return [{"name": k, "value": v} for k, v in self.params.items()]
+
+
+#: coefficients of MF 6.1 that tyrefit's MF 5.2 evaluation does not read (checked by changing each one; teasit's
+#: 'v52' FSAE export carries PPX1..PPY5, PKY5..PKY7, PEY5 with FITTYP = 6)
+_MF61_ONLY = ("PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPY5", "PPZ1", "PPZ2", "PPMX1",
+              "PKY5", "PKY6", "PKY7", "PEY5", "QDZ10", "QDZ11", "RBX3", "RBY4", "QSX4", "QSX5", "QSX6", "QSX7",
+              "QSX8", "QSX9", "QSX10", "QSX11", "QSX12", "QSX13", "QSX14", "QSY5", "QSY6", "QSY7", "QSY8")
 
 
 def _not_one_sign(mu: np.ndarray) -> np.ndarray:
