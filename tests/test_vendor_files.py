@@ -353,3 +353,20 @@ def test_mf52_file_with_mf61_only_coefficients_says_they_are_not_used(tmp_path):
         assert all(f[c] == g[c] for c in f), k
     t.params.update(PPX1=-4.4, PKY5=83.0)
     assert any("MF 6.1-only" in w and "PPX1, PKY5" in w for w in t.warnings())
+
+
+def test_goodyear_mf05_matches_mfeval():
+    """The Goodyear MF-Tool 5.0 file (PDY1 < 0) evaluated by MFeval 4.0's solver (see vendor_SOURCES.md):
+    Fx, Fy, Mz within 0.1 % of peak, pure and combined slip and camber, inside the file's ranges."""
+    import pandas as pd
+
+    ref = pd.read_csv(DATA / "vendor_feda_mfeval_reference.csv")
+    t = read_tyre(FEDA)
+    f = t.forces(ref["fz [N]"].to_numpy(), slip_angle=ref["slip_angle [rad]"].to_numpy(),
+                 slip_ratio=ref["slip_ratio [-]"].to_numpy(), camber=ref["camber [rad]"].to_numpy(),
+                 speed=ref["speed [m/s]"].to_numpy())
+    for ch, col in (("fx", "fx [N]"), ("fy", "fy [N]"), ("mz", "mz [N*m]")):
+        r = ref[col].to_numpy()
+        assert np.max(np.abs(f[ch] - r)) <= 1e-3 * np.max(np.abs(r)), ch
+    assert np.max(np.abs(ref["fy [N]"])) > 10000 and ref["camber [rad]"].max() > 0 and \
+        ((ref["slip_ratio [-]"] != 0) & (ref["slip_angle [rad]"] != 0)).any()
