@@ -13,6 +13,7 @@ import pytest
 
 from tyrefit.fitting.batch import BatchResult, batch_fit, find_data_files, fit_file
 from tyrefit.cli import main
+from tyrefit.errors import OutputExistsError
 from tyrefit.errors import DataError
 from tyrefit.io.tir import read_tir
 from tyrefit.models import pac89
@@ -282,3 +283,16 @@ def test_200_tyres_each_tir_within_one_percent_of_its_curves(tmp_path):
     elapsed = time.perf_counter() - t0
     worst = _assert_within_truth(tmp_path / "out", big.truth)
     print(f"200 tyres in {elapsed:.1f} s; worst .tir error {100 * worst:.3f} % of peak")
+
+
+def test_a_users_index_html_in_the_out_folder_is_not_replaced(tmp_path, db):
+    src = tmp_path / "db"
+    src.mkdir()
+    (src / "a.csv").write_bytes(db.paths[0].read_bytes())
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "index.html").write_text("my page")
+    with pytest.raises(OutputExistsError, match="not written by 'tyrefit batch fit'"):
+        batch_fit(src, out, workers=1, progress=False)
+    assert (out / "index.html").read_text() == "my page" and sorted(p.name for p in out.iterdir()) == ["index.html"]
+    assert batch_fit(src, out, workers=1, progress=False, force=True).n_ok == 1

@@ -841,6 +841,8 @@ def _cases_batch() -> list[Case]:
              timeout=240))
     add(Case("batch fit: foreign .tir not replaced", "batch fit", b, {**two, "o": _dir, "o/a.tir": "my tyre\n"},
              "error", r"(?i)not written by|--force", timeout=240, writes_on_error=True))
+    add(Case("batch fit: out folder holds the user's index.html", "batch fit", b,
+             {**two, "o": _dir, "o/index.html": "my page\n"}, "error", r"(?i)not written by"))
     add(Case("batch fit: out is a file", "batch fit", b, {**two, "o": "x\n"}, "error", r"(?i)not a folder"))
     add(Case("batch fit: empty folder", "batch fit", b, {"db": _dir}, "error", r"(?i)no data files"))
     add(Case("batch fit: glob matches nothing", "batch fit", ["batch", "fit", "{d}/none/*.csv", "--out", "{d}/o"],

@@ -608,6 +608,11 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     if out.exists() and not out.is_dir():
         raise DataError(f"{out}: exists and is not a folder; --out needs a folder for the .tir files")
     files = find_data_files(paths, exclude=out)
+    if summary and not force and not (out / _STATUS_DIR).is_dir():  # a folder the batch never wrote
+        for n in ("summary.csv", "index.html"):
+            if (out / n).exists():
+                raise OutputExistsError(f"{out / n}: exists and was not written by 'tyrefit batch fit' (no "
+                                        f"{_STATUS_DIR}/ folder); pass --force to replace it, or choose another --out")
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     (out / _STATUS_DIR).mkdir(exist_ok=True)
