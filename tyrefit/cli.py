@@ -84,7 +84,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
 
-    p = sub.add_parser("fit", parents=[common], help="fit a PAC89 tyre to slip-angle, slip-ratio or static-rig data")
+    p = sub.add_parser("fit", parents=[common],
+                       help="fit a PAC89 (or, with --model, Magic Formula 6.1/5.2) tyre to rig data")
     p.add_argument("data", metavar="DATA", nargs="+",
                    help="data file(s) of one tyre; several (cornering + drive/brake) need --model mf61 or mf52")
     p.add_argument("--model", choices=("pac89", "mf52", "mf61"), default="pac89",
