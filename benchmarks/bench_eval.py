@@ -29,16 +29,10 @@ TIR = Path(__file__).resolve().parent.parent / "tests" / "data" / "mfeval_MagicF
 
 
 def _tir_values(path: Path) -> dict:
-    out = {}
-    for line in path.read_text().splitlines():
-        line = line.split("$")[0].strip()
-        if line and not line.startswith("[") and "=" in line:
-            k, v = (s.strip() for s in line.split("=", 1))
-            try:
-                out[k.upper()] = float(v)
-            except ValueError:
-                out[k.upper()] = v.strip("'")
-    return out
+    """The coefficients of a .tir through tyrefit's own reader."""
+    from tyrefit.io.tir import read_tyre
+
+    return dict(read_tyre(path).params)
 
 
 def points(n: int, seed: int = 0) -> dict[str, np.ndarray]:

@@ -12,6 +12,8 @@ from tyrefit.errors import ModelError, OutputExistsError
 from tyrefit.io.mf_tir import SECTIONS, TURNSLIP, format_mf_tir, write_mf_tir
 from tyrefit.models import mf61
 
+from test_mf61_model import _read_tir_values
+
 DATA = Path(__file__).parent / "data"
 
 
@@ -46,16 +48,7 @@ def _flat(sections) -> dict:
 
 
 def _mfeval_example() -> dict:
-    out = {}
-    for line in (DATA / "mfeval_MagicFormula61_Paramerters.tir").read_text().splitlines():
-        line = line.split("$")[0].strip()
-        if line and not line.startswith("[") and "=" in line:
-            k, v = (s.strip() for s in line.split("=", 1))
-            try:
-                out[k.upper()] = float(v)
-            except ValueError:
-                out[k.upper()] = v.strip("'")
-    return out
+    return _read_tir_values(DATA / "mfeval_MagicFormula61_Paramerters.tir")
 
 
 def test_layout_every_coefficient_once_in_its_section(tmp_path):
@@ -166,15 +159,7 @@ def test_mf52_file_round_trip(tmp_path):
     from tyrefit.io.mf_tir import ONLY_61
     from tyrefit.io.tir import read_tyre
 
-    p = {}
-    for line in (DATA / "mfeval_MagicFormula52_Paramerters.tir").read_text().splitlines():
-        line = line.split("$")[0].strip()
-        if line and not line.startswith(("[", "{")) and "=" in line:
-            k, v = (s.strip() for s in line.split("=", 1))
-            try:
-                p[k.upper()] = float(v)
-            except ValueError:
-                p[k.upper()] = v.strip("'")
+    p = _read_tir_values(DATA / "mfeval_MagicFormula52_Paramerters.tir")
     path = write_mf_tir(p, tmp_path / "t52.tir", version="5.2")
     order, sections = _parse(path.read_text())
     assert sections["MODEL"]["FITTYP"] == "6"
