@@ -180,13 +180,26 @@ def test_start_model_follows_the_null_but_not_the_effects():
         assert bf[eff] > 0.6, (eff, bf[eff])
 
 
-@pytest.mark.parametrize("effect", ["curvature", "offsets"])
-def test_the_catalogue_can_name_the_truth_family(effect):
-    # an ideal diagnosis (best single catalogue effect on noise-free data) names the truth's family
-    o = vr.oracle("load6", effect)
+@pytest.mark.parametrize("layout", ["load5", "load6", "load7"])
+@pytest.mark.parametrize("effect", ["curvature", "offsets", "load_friction_power", "load_friction_tanh", "overload"])
+def test_the_catalogue_can_name_the_truth_family(effect, layout):
+    # an ideal diagnosis (best single catalogue effect on noise-free data) names the truth's family, and
+    # leaves a misfit small against the noise, so one accepted effect can bring the held-out error near
+    # it (a straight friction-load law leaves 0.6-0.8 sigma of a power or tanh law; a hinge at the
+    # rated load with grip flat below it leaves 0.42-0.76 sigma of a smooth knee)
+    o = vr.oracle(layout, effect)
     best = next(k for k in o if k != "start")
     assert best.startswith(EFFECT_FAMILY[effect]), o
     assert o[best] < 0.5 * o["start"], o
+    assert o[best] < 0.55, o
+    # and the best other family is clearly worse
+    other = min(v for k, v in o.items() if k != "start" and not k.startswith(EFFECT_FAMILY[effect]))
+    assert other > 1.35 * o[best], o
+
+
+def test_overload_cannot_raise_grip_above_the_rated_load():
+    from tyrefit.effects import get_effect
+    assert get_effect("overload").params[0].bounds[0] == 0.0  # a hinge that adds grip is not overload
 
 
 def test_wilson_interval():

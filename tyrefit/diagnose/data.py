@@ -267,7 +267,7 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 1
         raise DataError(f"rated load must be a positive force in N, got {rated}")
     inputs = ModelInputs(fz=d["fz"].to_numpy(float), slip_angle=d["slip_angle"].to_numpy(float), camber=camber,
                          pressure=pressure, speed=speed, rated_load=None if rated is None else float(rated),
-                         pressure_ref=_ref("pressure"), speed_ref=_ref("speed"))
+                         pressure_ref=_ref("pressure"), speed_ref=_ref("speed"), fz_ref=_ref("fz"))
     sa = inputs.slip_angle
     summary = DataSummary(
         fz_levels=tuple(map(float, levels["fz"])),

@@ -535,10 +535,15 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
             break
         best = max(confirmed, key=lambda i: evaluated[i][2]["delta_heldout"])
         fam = EFFECTS[best].family
-        ties = [i for i in confirmed if EFFECTS[i].family == fam
+        new = {i: set(evaluated[i][1].spec.names) - set(cur.spec.names) for i in confirmed}
+        # within the practical margin of the best, a variant of its family or a candidate whose terms are a
+        # subset of the best's (e.g. load_friction's a1 inside overload_degressive's a1 + knee) is as good an
+        # explanation with fewer terms: the simplest is added (parsimony across nested families too)
+        ties = [i for i in confirmed if (EFFECTS[i].family == fam or new[i] < new[best])
                 and evaluated[best][2]["delta_heldout"] - evaluated[i][2]["delta_heldout"] < margin_abs]
         chosen = min(ties, key=lambda i: (len(set(evaluated[i][1].spec.names) - set(cur.spec.names)),
                                           -evaluated[i][2]["delta_heldout"]))
+        fam = EFFECTS[chosen].family
         e, st, ev = evaluated[chosen]
         st.added = chosen
         steps.append(st)
@@ -548,8 +553,8 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         extra = sorted(set(st.spec.names) - set(cur.spec.names))
         cands[chosen].reason = (f"held-out RMSE {cur.rmse_heldout:.1f} -> {st.rmse_heldout:.1f} N"
                                 + (f"; extends {', '.join(replaced)} by {', '.join(extra)}" if replaced else "")
-                                + (f"; family {fam}: variants {', '.join(sorted(ties))} cannot be told apart, "
-                                   f"the simplest is added" if len(ties) > 1 else ""))
+                                + (f"; {', '.join(sorted(ties))} cannot be told apart (variants of family {fam} "
+                                   f"or nested terms), the simplest is added" if len(ties) > 1 else ""))
         for i in ties:
             if i != chosen:
                 cands[i].status = "variant not distinguishable"

@@ -111,7 +111,8 @@ class ModelInputs(NamedTuple):
     ``pressure`` [Pa] and ``speed`` [m/s] may be None when the data have no
     such column (effects that need them are then not testable).
     ``rated_load`` [N], ``pressure_ref`` [Pa], ``speed_ref`` [m/s] are the
-    points where the pressure/speed/overload terms are zero.
+    points where the pressure/speed/overload terms are zero; ``fz_ref`` [N]
+    is the reference load of the curved friction law (the middle load level).
     """
 
     fz: np.ndarray
@@ -122,6 +123,7 @@ class ModelInputs(NamedTuple):
     rated_load: float | None = None
     pressure_ref: float | None = None
     speed_ref: float | None = None
+    fz_ref: float | None = None
 
     def take(self, idx) -> "ModelInputs":
         """The inputs at the points ``idx`` (index array or boolean mask)."""

@@ -189,10 +189,13 @@ START_FY0 = ("PCY1", "PDY1", "PKY1", "PKY2", "PEY1")
 #: diagnose effect id -> MF 6.1 coefficients that carry it (Pacejka 2012, 4.E19-4.E30)
 EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
     "load_friction": ("PDY2",),
+    # MF 6.1 mu_y is linear in dfz: the curvature of the friction-load law is lost, PDY2 takes the trend
+    "load_friction_curved": ("PDY2",),
     "curvature_load": ("PEY2",),
     # MF 6.1 mu_y is linear in dfz: a fall above the rated load is carried by PDY2 and the curvature
     # law at best; the stiffness fall by PKY4 (the stiffness law's curvature, peak at PKY2 Fz0)
     "overload": ("PDY2", "PEY2"),
+    "overload_degressive": ("PDY2", "PEY2"),
     "overload_stiffness": ("PDY2", "PEY2", "PKY4"),
     "camber": ("PDY3", "PKY3", "PKY6", "PKY7", "PVY3", "PVY4", "PEY3"),
     "camber_thrust": ("PKY6", "PKY7", "PVY3", "PVY4"),
@@ -209,6 +212,8 @@ EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
 _EFFECT_NOTES = {
     "speed": "speed: MF 6.1 carries speed in Fx/Fy only through the scaling factor LMUV (friction decay with slip "
              "speed), which a fit does not set; QSY3/QSY4 (rolling resistance) are fitted where My is measured",
+    "load_friction_curved": "load_friction_curved: MF 6.1 friction is linear in load (PDY2); the curvature of the "
+                            "friction-load law is not carried, PDY2 takes the trend over the fitted range",
     "overload": "overload: MF 6.1 friction is linear in load (PDY2); a fall beyond the rated load is absorbed by "
                 "PDY2 and PEY2 over the fitted range only",
 }
