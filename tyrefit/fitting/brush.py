@@ -20,20 +20,24 @@ The paper builds its model in stages, and so does this module:
 of an improved model: the "same tyre" described by the simpler model, used
 by the adhesion estimator to compare the two (seed 001 Fig. 16-17).
 
-Fits use lmfit Parameters (value, bounds, vary) and return
-:class:`BrushFitResult` with the fitted :class:`~tyrefit.models.brush.BrushParams`.
+Fits state their parameters (value, bounds, vary) as
+:class:`tyrefit.fitting.core.Parameters`, are solved by the one fitting core
+(:func:`tyrefit.fitting.core.solve`: bounded least squares, finite-difference
+Jacobian, unit x-scale, as lmfit's ``least_squares`` method did before) and
+return :class:`BrushFitResult` with the fitted
+:class:`~tyrefit.models.brush.BrushParams`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import lmfit
 import numpy as np
 import pandas as pd
 
 from ..errors import ColumnError, DataError, FitError
 from ..models import brush as bm
+from .core import Parameters, Solution, solve
 
 __all__ = [
     "BrushFitResult",
@@ -71,7 +75,8 @@ class BrushFitResult:
         Names that were fitted.
     rmse : dict
         Root-mean-square residual of each fitted quantity (SI units).
-    lmfit_result : lmfit.MinimizerResult
+    solution : Solution
+        The fitting core's result (values, standard errors, cost), None for linear fits.
     what : str
         Which fit.
     """
@@ -80,15 +85,15 @@ class BrushFitResult:
     mu: float | None
     varied: tuple[str, ...]
     rmse: dict[str, float]
-    lmfit_result: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
+    solution: Solution | None = field(default=None, repr=False)
     what: str = ""
 
     def values(self) -> dict[str, float]:
-        """The fitted values (and their standard errors where lmfit gives them)."""
+        """The fitted values and their standard errors (nonlinear fits)."""
         out = {}
-        if self.lmfit_result is not None:
+        if self.solution is not None:
             for k in self.varied:
-                p = self.lmfit_result.params[k]
+                p = self.solution.params[k]
                 out[k] = p.value
                 out[k + "_stderr"] = p.stderr if p.stderr is not None else float("nan")
         return out
@@ -100,8 +105,8 @@ class BrushFitResult:
         return "\n".join(lines)
 
 
-def _parameters(base: bm.BrushParams, vary, mu: float | None = None) -> lmfit.Parameters:
-    pars = lmfit.Parameters()
+def _parameters(base: bm.BrushParams, vary, mu: float | None = None) -> Parameters:
+    pars = Parameters()
     for name in vary:
         lo, hi = BOUNDS[name]
         val = mu if name == "mu" else getattr(base, name)
@@ -109,18 +114,20 @@ def _parameters(base: bm.BrushParams, vary, mu: float | None = None) -> lmfit.Pa
     return pars
 
 
-def _apply(base: bm.BrushParams, pars: lmfit.Parameters) -> tuple[bm.BrushParams, float | None]:
-    vals = {k: p.value for k, p in pars.items()}
+def _apply(base: bm.BrushParams, vals: dict) -> tuple[bm.BrushParams, float | None]:
+    vals = dict(vals)
     mu = vals.pop("mu", None)
     return base.replace(**vals), mu
 
 
-def _minimize(fun, pars, what):
+def _minimize(fun, pars: Parameters, what: str) -> Solution:
+    """Solve with the fitting core; ``fun`` takes name -> value (every parameter)."""
     try:
-        res = lmfit.minimize(fun, pars, method="least_squares")
+        res = solve(lambda x: fun(pars.values_of(x)), pars, x_scale=1.0, max_nfev=4000 * (len(pars.free()) + 1),
+                    what=what)
     except (ValueError, FloatingPointError) as exc:
         raise FitError(f"{what}: fit failed ({exc})") from None
-    if not np.all(np.isfinite(res.residual)):
+    if not np.all(np.isfinite(res.resid)):
         raise FitError(f"{what}: residuals are not finite at the solution")
     return res
 
@@ -174,8 +181,8 @@ def fit_contact_width(df: pd.DataFrame, base: bm.BrushParams = bm.DEFAULT_PARAMS
         return 2 * bm.contact_half_width(p, fz, pr, cam) - w
 
     res = _minimize(resid, pars, where)
-    p, _ = _apply(base, res.params)
-    return BrushFitResult(p, None, tuple(vary), {"width": float(np.sqrt(np.mean(res.residual**2)))}, res, where)
+    p, _ = _apply(base, res.values)
+    return BrushFitResult(p, None, tuple(vary), {"width": float(res.rmse)}, res, where)
 
 
 # --- 2. width pressure ---------------------------------------------------------------------
@@ -202,16 +209,16 @@ def fit_width_profile(v, pressure) -> tuple[float, float, float]:
     if np.any(np.abs(v) > 1):
         raise DataError("width-profile positions must be relative, |y/b| <= 1")
     scale0 = float(np.mean(q) / np.mean(bm.width_pressure_shape(v, 0.0, 0.0)))
-    pars = lmfit.Parameters()
-    pars.add("scale", value=scale0, min=0)
-    pars.add("lam", value=0.5, min=-0.99, max=20)
-    pars.add("B", value=0.0, min=-1, max=1)
+    pars = Parameters()
+    pars.add("scale", scale0, min=0)
+    pars.add("lam", 0.5, min=-0.99, max=20)
+    pars.add("B", 0.0, min=-1, max=1)
 
     def resid(pp):
-        return pp["scale"].value * bm.width_pressure_shape(v, pp["lam"].value, pp["B"].value) - q
+        return pp["scale"] * bm.width_pressure_shape(v, pp["lam"], pp["B"]) - q
 
     res = _minimize(resid, pars, "width-profile fit")
-    lam, B = res.params["lam"].value, res.params["B"].value
+    lam, B = res.values["lam"], res.values["B"]
     return float(lam), float(B), float(B * (7 + 3 * lam) / (7 * (5 + lam)))
 
 
@@ -282,8 +289,8 @@ def fit_contact_length(df: pd.DataFrame, base: bm.BrushParams = bm.DEFAULT_PARAM
         return bm.contact_length(p, fz, pr, cam, n) - L
 
     res = _minimize(resid, pars, where)
-    p, _ = _apply(base, res.params)
-    return BrushFitResult(p, None, tuple(vary), {"length": float(np.sqrt(np.mean(res.residual**2)))}, res, where)
+    p, _ = _apply(base, res.values)
+    return BrushFitResult(p, None, tuple(vary), {"length": float(res.rmse)}, res, where)
 
 
 # --- 4. forces -----------------------------------------------------------------------------
@@ -347,7 +354,7 @@ def fit_brush_forces(df: pd.DataFrame, base: bm.BrushParams = bm.DEFAULT_PARAMS,
         return np.concatenate(parts)
 
     res = _minimize(resid, pars, where)
-    p, m = _apply(base, res.params)
+    p, m = _apply(base, res.values)
     f = _predict(model, p, fz, kappa, alpha, gam, pr, mu if m is None else m, n)
     rmse = {}
     if has_x:
@@ -395,7 +402,7 @@ def calibrate_original(improved: bm.BrushParams = bm.DEFAULT_PARAMS, *, n: int =
         return np.concatenate([(f.fx - ref.fx) / fz, (f.fy - ref.fy) / fz])
 
     res = _minimize(resid, pars, "original-model calibration")
-    p, _ = _apply(improved, res.params)
+    p, _ = _apply(improved, res.values)
     f = bm.brush_forces(p, fz, 0, 0, 0.0, pressure, mu, vx=vx, vy=vy, omega=om)
     return BrushFitResult(p, None, tuple(vary), {"fx": float(np.sqrt(np.mean((f.fx - ref.fx) ** 2))),
                                                  "fy": float(np.sqrt(np.mean((f.fy - ref.fy) ** 2)))},

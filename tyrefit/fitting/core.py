@@ -60,7 +60,8 @@ Which caller uses which cost, and why:
   scale in the rig calibration (stick-slip scatter).
 
 Standard errors are the Gauss-Newton ones at the solution,
-cov = s^2 (J^T J)^+ with s^2 = sum w r^2 / (N - p) of the *least-squares*
+cov = s^2 (J^T J)^+ (the pseudo-inverse taken with the columns of J scaled to
+unit norm, so that parameters of very different size do not fool its cut-off) with s^2 = sum w r^2 / (N - p) of the *least-squares*
 weighting sqrt(w) r, whatever the cost (for l1 and the robust costs this is
 the least-squares approximation at their solution), over the data rows only
 (penalty rows excluded).
@@ -702,8 +703,13 @@ def _solution(params, names, x, r, J, w, n_data, cost, scale, nfev, ok, msg, log
     cov = np.full((p, p), np.nan)
     if stderr and J is not None and p:
         Jw = J[:n] * np.sqrt(wd)[:, None]
+        # in column-scaled coordinates, so that the pseudo-inverse's cut-off sees the problem's conditioning
+        # and not the parameters' units (a stiffness of 4e7 N/m beside a friction of 1)
+        d = np.linalg.norm(Jw, axis=0)
+        d = np.where(d > 0, d, 1.0)
         try:
-            cov = np.linalg.pinv(Jw.T @ Jw) * s2
+            Js = Jw / d
+            cov = np.linalg.pinv(Js.T @ Js) / np.outer(d, d) * s2
         except np.linalg.LinAlgError:  # pragma: no cover
             pass
     sd = np.sqrt(np.clip(np.diag(cov), 0, None)) if p else np.zeros(0)

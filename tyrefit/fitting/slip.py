@@ -17,10 +17,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import least_squares
-
 from ..errors import ColumnError, DataError, FitError
 from ..models import slip as sl
+from .core import Parameters, solve
 
 __all__ = ["SlipFit", "RadiusFit", "SlipAnalysis", "fit_friction_slip", "fit_rolling_radius",
            "analyse_slip", "load_groups"]
@@ -154,25 +153,19 @@ def fit_friction_slip(slip, mu, *, nu_c: float = sl.NU_C, fz: float | None = Non
         e = np.exp(-x[1] * np.abs(s))
         return np.column_stack([np.sign(s) * (1 - e), np.abs(s) * x[0] * e * np.sign(s)])
 
-    best = None
-    for kk in (k0, 3 * k0, k0 / 3):
-        r = least_squares(resid, [mu_p0, kk], jac=jac, bounds=([1e-6, 1e-6], [10.0, 1e4]), method="trf",
-                          x_scale="jac")
-        if best is None or r.cost < best.cost:
-            best = r
+    pars = Parameters()
+    pars.add("mu_peak", mu_p0, min=1e-6, max=10.0, unit="-", meaning="peak friction coefficient")
+    pars.add("k", k0, min=1e-6, max=1e4, unit="-", meaning="slip stiffness coefficient of Eq. 8")
+    # three starts of k (the exponential's rate): the one fitting core picks the lowest cost
+    best = solve(resid, pars, jac=jac, starts=[[mu_p0, kk] for kk in (k0, 3 * k0, k0 / 3)],
+                 what="friction-slip fit")
     if not best.success:  # pragma: no cover - trf always reports success on this smooth problem
         raise FitError(f"friction-slip fit did not converge: {best.message}")
     mu_p, k = (float(v) for v in best.x)
-    dof = max(s.size - 2, 1)
-    s2 = 2 * best.cost / dof
-    try:
-        cov = np.linalg.inv(best.jac.T @ best.jac) * s2
-        err = np.sqrt(np.abs(np.diag(cov)))
-    except np.linalg.LinAlgError:
-        err = np.array([np.nan, np.nan])
+    err = np.array([best.stderr["mu_peak"], best.stderr["k"]])
     return SlipFit(mu_p, k, float(err[0]), float(err[1]), nu_c,
                    float(sl.characteristic_slip(mu_p, k, nu_c)), float(sl.characteristic_mu(mu_p, k, nu_c)),
-                   float(np.sqrt(np.mean(best.fun**2))), int(s.size), fz, s, m)
+                   best.rmse, int(s.size), fz, s, m)
 
 
 @dataclass

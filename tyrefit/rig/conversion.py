@@ -54,9 +54,9 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import least_squares
 
 from ..errors import DataError, FitError, FormatError
+from ..fitting.core import Parameters, solve
 from ..io.outputs import write_text
 from ..models.pac89 import magic_formula
 from ..nomenclature import G0
@@ -356,6 +356,16 @@ class DynamicCurves:
         return magic_formula(np.degrees(slip_angle), K / (C * D), C, D, E)
 
 
+def _MF_PARAMS(D0: float, K0: float) -> Parameters:  # noqa: N802 - a constructor
+    """D, C, K, E of one sweep's Magic Formula on mu, with their bounds."""
+    p = Parameters()
+    p.add("D", D0, min=0.05, max=3.0, unit="-", meaning="peak friction")
+    p.add("C", 1.4, min=0.8, max=2.0, unit="-", meaning="shape factor")
+    p.add("K", K0, min=1e-4, max=10.0, unit="1/deg", meaning="cornering stiffness over load")
+    p.add("E", 0.0, min=-10.0, max=1.0, unit="-", meaning="curvature factor")
+    return p
+
+
 def fit_dynamic_curves(dynamic) -> DynamicCurves:
     """Fit a Magic Formula to each sweep of a slip-angle data set (see :class:`DynamicCurves`)."""
     df = getattr(dynamic, "df", dynamic)
@@ -378,8 +388,8 @@ def fit_dynamic_curves(dynamic) -> DynamicCurves:
             D, C, K, E = q
             return magic_formula(a, K / (C * D), C, D, E) - mu
 
-        fit = least_squares(res, [D0, 1.4, K0, 0.0], bounds=([0.05, 0.8, 1e-4, -10.0], [3.0, 2.0, 10.0, 1.0]),
-                            loss="soft_l1", f_scale=0.02)
+        fit = solve(res, _MF_PARAMS(D0, K0), cost="soft_l1", scale=0.02, x_scale=1.0, stderr=False,
+                    what=f"{src}: Magic Formula of sweep {run}")
         rows.append((float(g["fz"].mean()), *fit.x, float(np.sqrt(np.mean(res(fit.x) ** 2))),
                      float(np.abs(g["slip_angle"]).max())))
     if not rows:
@@ -454,9 +464,12 @@ def calibrate(static_ds, dynamic_ds, patch_ds, *, static_fz_tolerance: float = 0
         return dyn.mu(eq1_slip_angle(u[m], q[0], q[1]), fz[m]) - mu_s[m]
 
     q = np.array([1.0, 0.0])
+    pars = Parameters()
+    pars.add("n", 1.0, min=0.05, max=50.0, unit="-", meaning="Eq. 1 exponent")
+    pars.add("b", 0.0, min=0.0, max=20.0, unit="-", meaning="Eq. 1 offset")
     for _ in range(3):
-        fit = least_squares(residual, q, args=(mask,), bounds=([0.05, 0.0], [50.0, 20.0]),
-                            loss="soft_l1", f_scale=0.01, x_scale=[1.0, 1.0])
+        fit = solve(lambda x: residual(x, mask), pars, starts=[q], cost="soft_l1", scale=0.01, x_scale=1.0,
+                    what="rig calibration (Eq. 1)")
         q = fit.x
         new = eq1_slip_angle(u, *q) <= dyn.max_slip
         if np.array_equal(new, mask):
@@ -465,20 +478,16 @@ def calibrate(static_ds, dynamic_ds, patch_ds, *, static_fz_tolerance: float = 0
     if mask.sum() < 10:
         raise FitError(f"{ssrc or 'static data'}: fewer than 10 static samples map inside the dynamic slip range")
     r = residual(q, mask)
-    dof = max(mask.sum() - 2, 1)
-    J = fit.jac
-    try:
-        cov = np.linalg.pinv(J.T @ J) * float(r @ r) / dof
-        se = np.sqrt(np.clip(np.diag(cov), 0, None))
-    except np.linalg.LinAlgError:  # pragma: no cover
-        se = np.array([np.nan, np.nan])
+    se = np.array([fit.stderr["n"], fit.stderr["b"]])  # least-squares approximation at the soft-l1 solution
     per_load = []
     for rr in sa.runs:
         m = mask & (run == rr.run)
         if m.sum() < 5:
             continue
-        f1 = least_squares(lambda x: dyn.mu(eq1_slip_angle(u[m], x[0], 0.0), fz[m]) - mu_s[m], [q[0]],
-                           bounds=([0.05], [50.0]), loss="soft_l1", f_scale=0.01)
+        p1 = Parameters()
+        p1.add("n", q[0], min=0.05, max=50.0)
+        f1 = solve(lambda x: dyn.mu(eq1_slip_angle(u[m], x[0], 0.0), fz[m]) - mu_s[m], p1, cost="soft_l1",
+                   scale=0.01, x_scale=1.0, stderr=False, what=f"rig calibration at {rr.load:.0f} N")
         per_load.append({"load_N": rr.load, "n_alone": float(f1.x[0]), "u_max": float(u[m].max()),
                          "points": int(m.sum())})
     alpha = eq1_slip_angle(u[mask], *q)

@@ -24,9 +24,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import curve_fit, minimize_scalar
+from scipy.optimize import minimize_scalar
 
-from ..errors import ColumnError, DataError
+from ..errors import ColumnError, DataError, FitError
+from ..fitting.core import Parameters, solve
 from ..nomenclature import G0
 
 __all__ = [
@@ -217,11 +218,14 @@ def fit_exp_rise(x, y, *, what: str = "data") -> ExpRiseFit:
     # initial scale from the point closest to 63 % of the maximum
     i = int(np.argmin(np.abs(y - 0.63 * ymax0)))
     xs0 = float(max(x[i], 1e-6 * np.max(x)))
+    pars = Parameters()
+    pars.add("y_max", ymax0, min=0.0, meaning="saturation value")
+    pars.add("x_scale", xs0, min=1e-9, meaning="load scale of the rise")
     try:
-        (ym, xs), _ = curve_fit(exp_rise, x, y, p0=(ymax0, xs0), bounds=([0, 1e-9], [np.inf, np.inf]),
-                                maxfev=5000)
-    except RuntimeError as exc:  # pragma: no cover - curve_fit failure on pathological data
+        sol = solve(lambda v: exp_rise(x, *v) - y, pars, x_scale=1.0, max_nfev=5000, stderr=False, what=what)
+    except FitError as exc:  # pragma: no cover - not finite on pathological data
         raise DataError(f"{what}: the exponential width law did not converge ({exc})") from None
+    ym, xs = sol.x
     r = y - exp_rise(x, ym, xs)
     return ExpRiseFit(float(ym), float(xs), float(np.sqrt(np.mean(r**2))), int(x.size))
 

@@ -26,9 +26,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import curve_fit
 
 from ..errors import DataError, FitError
+from ..fitting.core import Parameters, solve
 from ..nomenclature import G0
 
 __all__ = [
@@ -146,8 +146,8 @@ def fit_treadwear_traction(treadwear, mu) -> TractionFit:
     """Fit mu = a TW^-b by least squares on mu (seed 000 Eq. 42).
 
     The start comes from the straight line ln mu = ln a - b ln TW; the final
-    fit is nonlinear least squares on mu itself (``scipy.optimize.curve_fit``),
-    with standard errors from its covariance.
+    fit is nonlinear least squares on mu itself (the fitting core,
+    :func:`tyrefit.fitting.core.solve`), with standard errors from its Jacobian.
     """
     tw = np.asarray(treadwear, dtype=float).ravel()
     mu = np.asarray(mu, dtype=float).ravel()
@@ -164,11 +164,16 @@ def fit_treadwear_traction(treadwear, mu) -> TractionFit:
         raise DataError("all tyres have the same treadwear grade; the fit needs a range")
     slope, intercept = np.polyfit(np.log(tw), np.log(mu), 1)
     p0 = (float(np.exp(intercept)), float(-slope))
+    pars = Parameters()
+    pars.add("a", p0[0], meaning="friction at TW = 1")
+    pars.add("b", p0[1], meaning="exponent of the treadwear grade")
     try:
-        popt, pcov = curve_fit(lambda x, a, b: a * x ** (-b), tw, mu, p0=p0, maxfev=10000)
-    except (RuntimeError, ValueError) as exc:  # pragma: no cover - well-posed for positive data
+        sol = solve(lambda v: v[0] * tw ** (-v[1]) - mu, pars, x_scale=1.0, max_nfev=10000,
+                    what="treadwear-traction fit")
+    except (FitError, ValueError) as exc:  # pragma: no cover - well-posed for positive data
         raise FitError(f"treadwear-traction fit did not converge: {exc}") from None
-    err = np.sqrt(np.clip(np.diag(pcov), 0, None)) if np.all(np.isfinite(pcov)) else np.array([np.nan, np.nan])
+    popt = sol.x
+    err = np.array([sol.stderr["a"], sol.stderr["b"]])
     pred = popt[0] * tw ** (-popt[1])
     ss_res = float(np.sum((mu - pred) ** 2))
     ss_tot = float(np.sum((mu - mu.mean()) ** 2))
