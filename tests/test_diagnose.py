@@ -751,3 +751,37 @@ def test_overload_on_one_level_above_the_rating_is_flagged_ambiguous_with_the_te
     assert adv["overload"]["status"] == "ambiguous"
     assert "one load level above the rated load" in adv["overload"]["why"]
     assert "second load above the rated load" in adv["overload"]["test"]
+
+
+def test_slip_ratio_sweeps_are_left_out_and_combined_slip_needs_mf61():
+    # pure cornering sweeps with rig slip-ratio noise (+-0.01, as FSAE TTC) stay; drive/brake sweeps (slip ratio
+    # swept at zero slip angle) and combined ones (swept at -3 deg) leave the lateral diagnosis, and combined
+    # slip is reported as beyond PAC89
+    case = make_case((), "iid", seed=3)
+    pure = case.data.copy()
+    rng = np.random.default_rng(3)
+    # noise, an offset and a drift with slip angle (0.06 over a sweep): still cornering sweeps
+    pure["slip_ratio"] = rng.uniform(-0.01, 0.01, len(pure)) + 0.025 + 0.3 * np.abs(pure["slip_angle"])
+    kap = np.linspace(-0.2, 0.2, 41)
+    extra = []
+    for k, (alpha_deg, fz) in enumerate([(0.0, 4000.0), (-3.0, 4000.0), (-3.0, 6000.0)]):
+        extra.append(pd.DataFrame({"run": 1000 + k, "fz": fz, "slip_angle": np.radians(alpha_deg), "slip_ratio": kap,
+                                   "camber": 0.0, "fy": 3000.0 * np.sin(np.radians(alpha_deg)) * (1 - kap**2)}))
+    for e in extra:  # the other conditions (pressure, speed) as the cornering sweeps'
+        for c in pure.columns.difference(e.columns):
+            e[c] = pure[c].iloc[0]
+    both = pd.concat([pure] + extra, ignore_index=True)
+    d0, d1 = prepare(case.data), prepare(both)
+    assert d1.n_sweeps == d0.n_sweeps and d1.n == d0.n
+    info = dict(d1.slip_ratio_sweeps)
+    np.testing.assert_allclose(info.pop("slip_angles"), [np.radians(-3.0)])
+    assert info == {"combined_sweeps": 2, "longitudinal_sweeps": 1, "points": 123}
+    assert "combined slip needs MF 6.1" in d1.notes[0]
+    dg = diagnose(both, rated_load=case.rated_load, seed=3)
+    adv = {a["family"]: a for a in dg.advice}
+    assert adv["combined_slip"]["status"] == "beyond PAC89"
+    assert adv["combined_slip"]["needs_model"] == "needs MF 6.1 (`--model mf61`)"
+    assert "combined_slip" not in {a["family"] for a in diagnose(case.data, rated_load=case.rated_load,
+                                                                 seed=3).advice}
+    with pytest.raises(DataError, match="only slip-ratio sweeps"):
+        prepare(pd.concat(extra, ignore_index=True))

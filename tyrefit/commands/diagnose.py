@@ -50,7 +50,9 @@ def run(args) -> int:
         raise DataError(f"{args.data}: --patch and --rig convert static-rig pushes; this file holds {ds.kind!r} data")
     if ds.kind != "slip_angle" or "fy" not in ds.df.columns:
         raise DataError(f"{args.data}: diagnose needs lateral-force slip-angle sweeps (fy against slip_angle) or "
-                        f"static-rig pushes with --patch; this file holds {ds.kind!r} data")
+                        f"static-rig pushes with --patch; this file holds {ds.kind!r} data"
+                        + ("; drive/brake and combined-slip records are fitted with `tyrefit fit FILE --model mf61` "
+                           "(PAC89 has no combined slip)" if ds.kind == "slip_ratio" else ""))
     dg = diagnose(ds, start=start, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
     dg.data.notes[:0] = notes
     if report_dir:

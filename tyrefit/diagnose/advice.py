@@ -17,7 +17,11 @@ For every effect family the diagnosis could not settle, one entry says
   the last screening round, with its min-p critical value).
 
 ``needs_model`` names the tyre model that can carry a family PAC89 cannot
-(pressure, speed: MF 6.1, ``--model mf61``).
+(pressure, speed: MF 6.1, ``--model mf61``).  Slip-ratio sweeps in the data
+(drive/brake and combined slip) are not part of the lateral diagnosis; when
+there are combined ones, an entry of family ``combined_slip`` with status
+``beyond PAC89`` says so: PAC89 has no combined-slip terms, MF 6.1 has
+(G_xa, G_yk, S_Vyk; ``tyrefit fit FILE --model mf61``).
 """
 
 from __future__ import annotations
@@ -170,6 +174,16 @@ def build_advice(data, cands: dict, accepted: list[str], settings) -> list[dict]
         entry["level"] = settings.alpha
         entry["needs_model"] = needs_model(entry["effect"])
         out.append(entry)
+    sr = getattr(data, "slip_ratio_sweeps", None)
+    if sr and sr.get("combined_sweeps"):
+        ang = ", ".join(f"{a / _DEG:g}" for a in sr["slip_angles"])
+        out.append({"effect": "combined_slip", "family": "combined_slip", "status": "beyond PAC89",
+                    "why": (f"{sr['combined_sweeps']} combined-slip sweeps (slip ratio swept at slip angle {ang} deg) "
+                            "are in the data: the lateral force falls and the aligning moment changes under drive "
+                            "and brake slip, which PAC89 (pure slip only) cannot carry"),
+                    "test": ("fit the file with --model mf61: the combined-slip weighting functions G_xa, G_yk and "
+                             "S_Vyk (Pacejka 2012, 4.E50-4.E67) are fitted from these sweeps"),
+                    "detectable": None, "power": 0.8, "level": settings.alpha, "needs_model": MF61})
     return out
 
 

@@ -122,6 +122,9 @@ class SweepData:
     source: str = ""
     notes: list[str] = field(default_factory=list)
     convention: str = "iso"  # sign convention of the file read (for commands the report suggests)
+    #: slip-ratio sweeps left out of the lateral diagnosis (drive/brake and combined slip), or None:
+    #: ``{"combined_sweeps", "longitudinal_sweeps", "points", "slip_angles"}`` (slip angles [rad])
+    slip_ratio_sweeps: dict | None = None
 
     @property
     def n(self) -> int:
@@ -162,6 +165,61 @@ class SweepData:
         return pd.DataFrame(d)
 
 
+#: a segment whose slip ratio spans this much (2-98 %) ...
+KAPPA_SWEPT = 0.05
+#: ... while its slip angle spans less than this [rad] is a slip-ratio sweep, not a cornering sweep
+ALPHA_HELD = 2.0 * np.pi / 180.0
+
+
+def _slip_ratio_segments(d: pd.DataFrame, seg: np.ndarray) -> tuple[np.ndarray, dict]:
+    """Points of slip-ratio (drive/brake, combined) segments, and what they were.
+
+    A lateral slip-angle sweep on a rig carries slip-ratio noise and drift (FSAE TTC: +-0.01,
+    more at large slip angles, and an offset from the rolling-radius estimate), so a segment
+    counts as a slip-ratio sweep only when its slip ratio spans >= :data:`KAPPA_SWEPT` (2-98 %
+    quantiles, robust to spikes) while its slip angle is held (spans < :data:`ALPHA_HELD`): a
+    drive/brake sweep at zero slip angle or a combined one at a fixed slip angle.  A swept slip
+    angle stays a cornering sweep whatever the slip ratio does.
+    """
+    kap = d["slip_ratio"].fillna(0.0).to_numpy(float)
+    sa = d["slip_angle"].to_numpy(float)
+    drop = np.zeros(len(d), dtype=bool)
+    n_comb = n_long = 0
+    angles = []
+    for k in np.unique(seg):
+        m = seg == k
+        lo, hi = np.percentile(kap[m], [2, 98])
+        alo, ahi = np.percentile(sa[m], [2, 98])
+        if hi - lo >= KAPPA_SWEPT and ahi - alo < ALPHA_HELD:
+            drop[m] = True
+            a = float(np.median(sa[m]))
+            if abs(a) < 0.5 * np.pi / 180.0:
+                n_long += 1
+            else:
+                n_comb += 1
+                angles.append(a)
+    info = {"combined_sweeps": n_comb, "longitudinal_sweeps": n_long, "points": int(drop.sum()),
+            "slip_angles": sorted({round(a * 180.0 / np.pi) * np.pi / 180.0 for a in angles})}
+    return drop, info
+
+
+def _slip_ratio_note(info: dict) -> str:
+    ang = ", ".join(f"{a * 180.0 / np.pi:g}" for a in info["slip_angles"])
+    return (f"{info['points']} points of slip-ratio sweeps left out ({info['longitudinal_sweeps']} drive/brake at "
+            f"zero slip angle, {info['combined_sweeps']} combined" + (f" at {ang} deg" if ang else "")
+            + "): this diagnosis reads pure cornering (PAC89 has no combined slip); combined slip needs MF 6.1 "
+            "(`--model mf61`)")
+
+
+def _with_df(data, df: pd.DataFrame):
+    """A shallow copy of a Dataset with another frame (source and meta kept)."""
+    import copy
+
+    out = copy.copy(data)
+    out.df = df
+    return out
+
+
 def _frame_of(data) -> tuple[pd.DataFrame, str, dict]:
     if isinstance(data, pd.DataFrame):
         return data, "DataFrame", {}
@@ -189,7 +247,8 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 1
     if missing:
         raise ColumnError(f"{source or 'data'}: diagnose needs lateral-force slip sweeps; missing column(s) "
                           f"{', '.join(missing)} (have: {', '.join(map(str, df.columns))})")
-    cols = ["fy", "slip_angle", "fz"] + [c for c in ("run", "camber", "pressure", "speed", "load") if c in df.columns]
+    cols = ["fy", "slip_angle", "fz"] + [c for c in ("run", "camber", "pressure", "speed", "load", "slip_ratio")
+                                         if c in df.columns]
     d = df[cols].apply(pd.to_numeric, errors="coerce")
     keep = d[["fy", "slip_angle", "fz"]].notna().all(axis=1).to_numpy().copy()
     for c in ("camber", "pressure", "speed"):
@@ -231,6 +290,21 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 1
     if not ok.all():
         d, camber, seg = d[ok].reset_index(drop=True), camber[ok], seg[ok]
         lidx = {f: v[ok] for f, v in lidx.items()}
+    if "slip_ratio" in d.columns:
+        drop, info = _slip_ratio_segments(d, seg)
+        if drop.all():
+            raise DataError(f"{source or 'data'}: only slip-ratio sweeps ({info['longitudinal_sweeps']} drive/brake, "
+                            f"{info['combined_sweeps']} combined); diagnose reads lateral-force slip-angle sweeps - "
+                            "fit these with `tyrefit fit FILE --model mf61`")
+        pure = d.drop(columns="slip_ratio")
+        if drop.any():
+            pure = pure[~drop].reset_index(drop=True)
+        out = prepare(pure if not hasattr(data, "df") else _with_df(data, pure), rated_load=rated_load,
+                      max_points_per_sweep=max_points_per_sweep)
+        if drop.any():
+            out.slip_ratio_sweeps = info
+            out.notes.insert(0, _slip_ratio_note(info))
+        return out
     # merge segments of the same run and condition (a run revisiting a condition is one sweep cluster)
     key = np.column_stack([pd.factorize(d["run"].to_numpy() if "run" in d.columns else np.zeros(len(d)))[0]]
                           + [lidx[f] for f in lidx])
