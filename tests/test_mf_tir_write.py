@@ -107,11 +107,14 @@ def test_neutral_fill_and_not_fitted_declared(tmp_path):
     assert "NOT FITTED: pure-slip Mz" in text and "NOT FITTED: rolling resistance My" in text
     assert "DEFAULTS [STRUCTURAL]: all: neutral / generic values, not from data" in text
     assert re.search(r"DEFAULTS \[LATERAL_COEFFICIENTS\]: PDY2, ", text)
-    # neutral parts are not zeros that give NaN: the file evaluates finite everywhere, Mz included
+    # neutral parts are not zeros that give NaN: the file evaluates finite everywhere; the part without data
+    # (pure-slip Mz: QDZ1 = 0, no trail, no residual torque) gives no moment rather than a generic curve
     a = np.radians(np.linspace(-20, 20, 21))
     r = mf61.forces(q, np.array([300.0, 3000.0, 4500.0])[:, None], 0.1, a, 0.05, 200e3, 3.0)
     assert all(np.isfinite(v).all() for v in r.values())
-    assert np.abs(r["mz"]).max() > 0
+    assert np.abs(r["fy"]).max() > 100 and np.abs(r["mz"]).max() == 0.0
+    # declared for Adams (USE_MODE 3: Fx and Fy fitted, no combined slip) and for tyrefit's reader
+    assert q["USE_MODE"] == 3 and "$ TYREFIT_NOT_FITTED = mz, mx, my, combined" in text
 
 
 def test_bad_values_refused_before_writing(tmp_path):
@@ -149,8 +152,10 @@ def test_round_trip_through_the_project_reader(tmp_path):
     fz = np.array([2000.0, 6752.0, 9000.0])[:, None, None]
     got = tyre.forces(fz, slip_angle=a, slip_ratio=k, camber=0.05, pressure=300000.0, speed=12.0)
     want = mf61.forces(p, fz, k, a, 0.05, 300000.0, 12.0)
-    for ch in ("fx", "fy", "mz", "mx", "my"):
+    for ch in ("fx", "fy", "mz", "mx"):
         np.testing.assert_array_equal(got[ch], want[ch])
+    # My was declared not fitted: absent when read back (NaN), the file's own USE_MODE kept
+    assert np.isnan(got["my"]).all() and not tyre.has_rolling and tyre.use_mode == p.get("USE_MODE", 4)
 
 
 def test_mf52_file_round_trip(tmp_path):

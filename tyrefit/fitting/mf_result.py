@@ -189,6 +189,7 @@ class FitResultMF:
                          f"floor {s['noise_floor']:.3g}){'' if s['fitted'] else ' - not fitted'}")
         if self.effects:
             lines.append("Fy0 effects: " + ", ".join(self.effects))
+        lines += [str(x) for x in (self.tyre_info or {}).get("header", ())]  # design data: origin of each value
         return lines
 
     def write_tir(self, path, *, force: bool = False) -> Path:

@@ -21,6 +21,21 @@ Design choices
   terms 0; scaling factors 1) - and the header says which sections hold such
   placeholders, next to the parts the caller declares ``not_fitted``.  Zeros
   that make B = 0/0 are never written.
+* **A part with no data gives no force, and says so twice.**  For a force
+  part declared not fitted (stages ``fx0``, ``fy0``, ``mz0``) the whole
+  coefficient group is written at its neutral values with the slip stiffness
+  (PKX1 = PKX2 = 0; PKY1 = 0) or peak trail (QDZ1 = 0) set to zero: B = K / (C D
+  + eps) = 0 with C, D finite and non-zero, so every implementation (Adams,
+  MFeval, Chrono, tyrefit) computes Fx, Fy or Mz = 0 there, finite -- the MF
+  analogue of the PAC89 writer's ``NEUTRAL_BLOCKS``, never the generic
+  passenger-car curve of :func:`tyrefit.models.mf61.neutral`, which a
+  simulator would brake or corner on.  Then ``USE_MODE`` (its last digit:
+  1 Fx/My only, 2 Fy/Mx/Mz only, 3 uncombined, 4 combined; the same in MSC's
+  PAC2002 and TNO's MF-Tyre 6.x, see :mod:`tyrefit.tyres.mf`) tells Adams which
+  forces to compute -- steady state (tens digit 0): tyrefit fits no relaxation
+  -- and a comment ``$ TYREFIT_NOT_FITTED = fx, mx, ...`` names the channels
+  without data for tyrefit's reader (MFeval ignores USE_MODE).  A caller that
+  declares no stage not fitted gets its own ``USE_MODE`` or 4.
 * Turn slip is not part of tyrefit's model; ``[TURNSLIP_COEFFICIENTS]`` carries
   the generic values of TNO's example files (which MFeval also uses as its
   defaults) so that a simulator run in a turn-slip mode still gets finite
@@ -51,7 +66,8 @@ from ..errors import ModelError
 from ..models import mf61
 from .outputs import write_text
 
-__all__ = ["write_mf_tir", "format_mf_tir", "SECTIONS", "TURNSLIP", "RANGE_KEYS", "ONLY_61"]
+__all__ = ["write_mf_tir", "format_mf_tir", "SECTIONS", "TURNSLIP", "RANGE_KEYS", "ONLY_61", "ZERO_FORCE",
+           "not_fitted_channels"]
 
 #: generic turn-slip values of TNO's example files (MFeval 4.0 readTIR defaults); not fitted by tyrefit
 TURNSLIP: dict[str, float] = {
@@ -67,7 +83,7 @@ _MODEL_EXTRA: list[tuple[str, object, str]] = [
     ("PROPERTY_FILE_FORMAT", "'USER'", ""),
     ("USER_SUB_ID", 815, ""),
     ("N_TIRE_STATES", 5, ""),
-    ("USE_MODE", 124, "Tyre use switch (Adams)"),
+    ("USE_MODE", 4, "Tyre use switch (last digit: 1 Fx,My 2 Fy,Mx,Mz 3 uncombined 4 combined)"),
     ("HMAX_LOCAL", 2.5e-4, "Local integration time step (Adams)"),
     ("TIME_SWITCH_INTEG", 0.1, "Time when local integrator is activated (Adams)"),
 ]
@@ -269,11 +285,46 @@ def _ranges(ranges: Mapping | None) -> dict[str, float]:
     return out
 
 
+#: for a force stage without data: the coefficient whose zero makes the part give no force (B = 0, finite)
+ZERO_FORCE: dict[str, dict[str, float]] = {
+    "fx0": {"PKX1": 0.0, "PKX2": 0.0},   # Kxk = Fz (PKX1 + PKX2 dfz) exp(PKX3 dfz) = 0   (4.E15)
+    "fy0": {"PKY1": 0.0},                # Kya = PKY1 Fz0 sin(...) = 0; PKY6 = PVY3 = 0 neutral   (4.E25)
+    "mz0": {"QDZ1": 0.0},                # Dt = Fz (R0 / Fz0') (QDZ1 + QDZ2 dfz) ... = 0; Dr = 0 neutral   (4.E42)
+}
+
+
+def not_fitted_channels(not_fitted: Iterable[str]) -> tuple[list[str], int | None]:
+    """Channels without data and the USE_MODE slip digit, from the stage names in ``not_fitted``.
+
+    Returns ``(channels, digit)``; ``digit`` is None when no force stage is
+    named (the caller's USE_MODE stands).
+    """
+    nf = {str(x).lower() for x in not_fitted if str(x).lower() in mf61.GROUPS}
+    if not nf & {"fx0", "fy0", "mz0", "fx", "fy"}:
+        return [c for c in ("mx", "my") if c in nf], None
+    fx, fy = "fx0" not in nf, "fy0" not in nf
+    chans = [c for c, st in (("fx", "fx0"), ("fy", "fy0"), ("mz", "mz0"), ("mx", "mx"), ("my", "my")) if st in nf]
+    if not fy and "mx" not in chans:
+        chans.append("mx")   # Mx = f(Fy): no lateral part, no overturning moment
+    combined = (fx or fy) and (not fx or "fx" not in nf) and (not fy or "fy" not in nf)
+    if (fx or fy) and not combined:
+        chans.append("combined")
+    digit = 4 if fx and fy else 2 if fy else 1 if fx else 0
+    if digit == 4 and not combined:
+        digit = 3
+    return chans, digit
+
+
 def _not_fitted_lines(not_fitted: Iterable[str]) -> list[str]:
     lines = []
     for item in not_fitted:
         name = str(item)
-        if name.lower() in mf61.GROUPS:
+        if name.lower() in ZERO_FORCE:
+            names = mf61.GROUPS[name.lower()]
+            zero = ", ".join(f"{k} = 0" for k in ZERO_FORCE[name.lower()])
+            lines.append(f"NOT FITTED: {_STAGE_NAMES[name.lower()]} ({', '.join(names)}): no data; neutral values "
+                         f"with {zero}, so this part gives no force (finite)")
+        elif name.lower() in mf61.GROUPS:
             names = mf61.GROUPS[name.lower()]
             lines.append(f"NOT FITTED: {_STAGE_NAMES[name.lower()]} ({', '.join(names)}): neutral values")
         elif name.upper() in mf61.COEFFICIENTS:
@@ -310,6 +361,13 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
     given = {str(k).upper(): v for k, v in params.items()}
     given.update(_ranges(ranges))
     base = dict(mf61.neutral(), LGAX=1.0, LGAY=1.0, LGAZ=1.0, PHY3=0.0)
+    not_fitted = list(not_fitted)
+    channels, digit = not_fitted_channels(not_fitted)
+    for stage in (str(x).lower() for x in not_fitted):
+        if stage in ZERO_FORCE:  # a force part without data: neutral group, zero stiffness -> zero force
+            given.update({k: base[k] for k in mf61.GROUPS[stage]}, **ZERO_FORCE[stage])
+    if digit is not None:
+        given["USE_MODE"] = digit
     values: dict[str, object] = {}
     defaulted: dict[str, list[str]] = {}
     for section, names in keys.items():
@@ -340,6 +398,8 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
     out = ["[MDI_HEADER]", _line("FILE_TYPE", "'tir'"), _line("FILE_VERSION", "3.0"),
            _line("FILE_FORMAT", "'ASCII'"),
            f"$ MF-Tyre {version} property file (FITTYP = {fittyp}) written by tyrefit; SI units, ISO-W signs"]
+    if channels:
+        out.append(f"$ TYREFIT_NOT_FITTED = {', '.join(channels)}")
     out += [f"$ {_clean(h)}" for h in header if _clean(h)]
     out += [f"$ {s}" for s in _not_fitted_lines(not_fitted)]
     for section, names in defaulted.items():

@@ -237,7 +237,8 @@ class Tyre(abc.ABC):
             both = self.forces(g["fz"], slip_angle=g["slip_angle"], slip_ratio=g["slip_ratio"],
                                camber=g["camber"]) if self.combined else {}
         out = []
-        has = {"fx": self.has_longitudinal, "fy": self.has_lateral, "mz": self.has_aligning}
+        has = {"fx": self.has_longitudinal, "fy": self.has_lateral, "mz": self.has_aligning,
+               "mx": getattr(self, "has_overturning", True), "my": getattr(self, "has_rolling", True)}
         for label, res in (("pure lateral slip", pure_y), ("pure longitudinal slip", pure_x),
                            ("combined slip", both)):
             for k, val in res.items():

@@ -12,6 +12,39 @@ declared ranges -- the MF analogues of PAC89's C > 0, D > 0, a4 != 0, E <= 1 --
 with the equations of Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. (2012),
 section 4.3.2 (numbers (4.E11)-(4.E25)), then that the evaluated forces are
 finite on a grid over the ranges.
+
+Which parts a file models
+-------------------------
+A property file says which forces and moments its tyre computes in
+``USE_MODE`` ([MODEL]); tyrefit honours its last digit, which means the same in
+both families of files:
+
+* MSC Adams PAC2002 / MF 5.2 files (the comment block MSC ships in them, e.g.
+  Goodyear's MF-Tool 5.0 export in ``tests/data/vendor_feda_335_65R22_5_40psi.tir``):
+  0 Fz only, no Magic Formula; 1 Fx, My only; 2 Fy, Mx, Mz only; 3 uncombined;
+  4 combined; +10 with relaxation; x -1 mirrored characteristics.
+* TNO MF-Tyre 6.x (TNO's ``dteval`` help text, (C) 1996-2013 TNO Automotive;
+  FunctionBay RecurDyn's MF-Tyre property-file page): the same 0-5 in the last
+  digit (5 = combined + turn slip), tens = dynamics (0 steady state, 1/2
+  relaxation, 3 rigid ring), hundreds = road contact (MFeval's example file
+  has 124).
+
+So the last digit 1 removes Fy, Mz and Mx; 2 removes Fx and My; 0 removes all;
+3 evaluates uncombined (Fx, My at alpha = 0; Fy, Mz, Mx at kappa = 0); 4 and 5
+combined (turn slip is out of scope: 5 is 4 at zero turn slip).  Tens,
+hundreds and the sign (relaxation, road contact, mirroring) concern a
+simulator's dynamics, not the steady-state forces, and are not applied; a
+negative USE_MODE is said in :meth:`MFTyre.warnings`.  A file without USE_MODE
+computes every part.  MFeval ignores the file's USE_MODE (it takes its own
+``useMode`` argument) and evaluates every coefficient block.
+
+tyrefit's own writer (:mod:`tyrefit.io.mf_tir`) also writes a machine-readable
+comment ``$ TYREFIT_NOT_FITTED = fx, mz, ...`` naming the channels that had
+no data (``fx``, ``fy``, ``mz``, ``mx``, ``my`` and ``combined``); those parts
+are absent here too (NaN; ``combined`` not fitted -> uncombined evaluation,
+which is what the neutral combined-slip weights G = 1 give anyway).  A part
+that is absent gives NaN in :meth:`MFTyre.forces`, is not checked, and
+``sim`` refuses a tyre without the part it needs.
 """
 
 from __future__ import annotations
@@ -26,7 +59,33 @@ from .base import Tyre
 
 from ..models import mf61 as _mf61
 
-__all__ = ["MFTyre", "REQUIRED_MF"]
+__all__ = ["MFTyre", "REQUIRED_MF", "USE_MODE_OUTPUTS", "NOT_FITTED_KEY", "parse_not_fitted"]
+
+#: channels computed for each last digit of USE_MODE (see the module notes for the sources)
+USE_MODE_OUTPUTS: dict[int, tuple[str, ...]] = {
+    0: (), 1: ("fx", "my"), 2: ("fy", "mz", "mx"), 3: ("fx", "fy", "mz", "mx", "my"),
+    4: ("fx", "fy", "mz", "mx", "my"), 5: ("fx", "fy", "mz", "mx", "my"),
+}
+
+#: the comment key tyrefit's writer uses for the channels fitted without data (``$ TYREFIT_NOT_FITTED = fx, mz``)
+NOT_FITTED_KEY = "TYREFIT_NOT_FITTED"
+_NOT_FITTED_NAMES = frozenset(["fx", "fy", "mz", "mx", "my", "combined"])
+_PART_CHANNEL = {"longitudinal": "fx", "lateral": "fy", "aligning": "mz"}
+
+
+def parse_not_fitted(comments) -> frozenset[str]:
+    """Channels named in a ``TYREFIT_NOT_FITTED = ...`` comment line (empty when there is none)."""
+    out: set[str] = set()
+    for line in comments or ():
+        text = str(line).strip()
+        if not text.upper().startswith(NOT_FITTED_KEY):
+            continue
+        rest = text[len(NOT_FITTED_KEY):].lstrip()
+        if not rest.startswith("="):
+            continue
+        out.update(w for w in (x.strip().lower() for x in rest[1:].replace(";", ",").split(","))
+                   if w in _NOT_FITTED_NAMES)
+    return frozenset(out)
 
 #: coefficients without which a part of an MF tyre cannot be evaluated (the others default to 0, L* to 1)
 REQUIRED_MF: dict[str, tuple[str, ...]] = {
@@ -72,6 +131,8 @@ class MFTyre(Tyre):
     header: list[str] = field(default_factory=list)
     tables: dict[str, Any] = field(default_factory=dict)
     source: str = ""
+    #: channels declared not fitted (``TYREFIT_NOT_FITTED`` comment); None: read from ``header``
+    not_fitted: frozenset | None = None
 
     combined = True
     outputs = ("fx", "fy", "mz", "mx", "my")
@@ -80,6 +141,13 @@ class MFTyre(Tyre):
         self.params = {str(k).upper(): float(v) for k, v in dict(self.params).items()}
         if self.family not in ("MF52", "MF61"):
             raise ModelError(f"MF family must be 'MF52' or 'MF61', got {self.family!r}")
+        self.not_fitted = frozenset(parse_not_fitted(self.header) if self.not_fitted is None
+                                    else (str(x).lower() for x in self.not_fitted))
+        um = self.use_mode
+        digit = None if um is None else abs(um) % 10
+        self._computed = frozenset(USE_MODE_OUTPUTS.get(digit, USE_MODE_OUTPUTS[4])) - self.not_fitted
+        # USE_MODE 3 (uncombined), or no combined-slip data: each slip alone
+        self.combined = digit != 3 and "combined" not in self.not_fitted
         # MF 5.2 has no pressure terms; both respond to speed (LMUV, low-speed reductions, My)
         self.inputs = ("fz", "slip_angle", "slip_ratio", "camber", "speed") + (
             ("pressure",) if self.family == "MF61" else ())
@@ -105,19 +173,47 @@ class MFTyre(Tyre):
         with np.errstate(all="ignore"):
             out = _mf61.forces(self.params, fzs, slip_ratio=sr, slip_angle=sa, camber=cam, pressure=pr, speed=vv,
                                version=self.family)
-        has = {"fx": self.has_longitudinal, "fy": self.has_lateral, "mz": self.has_aligning}
+            if not self.combined:  # USE_MODE 3: Fx, My at alpha = 0; Fy, Mz, Mx at kappa = 0
+                zero = np.zeros_like(fzs)
+                ox = _mf61.forces(self.params, fzs, slip_ratio=sr, slip_angle=zero, camber=cam, pressure=pr,
+                                  speed=vv, version=self.family)
+                oy = _mf61.forces(self.params, fzs, slip_ratio=zero, slip_angle=sa, camber=cam, pressure=pr,
+                                  speed=vv, version=self.family)
+                out = {k: (ox if k in ("fx", "my") else oy)[k] for k in out}
+        has = {"fx": self.has_longitudinal, "fy": self.has_lateral, "mz": self.has_aligning,
+               "mx": self.has_overturning, "my": self.has_rolling}
         return {k: (np.where(on, np.broadcast_to(np.asarray(v, dtype=float), fz.shape), 0.0) if has.get(k, True)
                     else np.full(fz.shape, np.nan))  # a part the file does not model: NaN, as Pac89Tyre
                 for k, v in out.items() if k in ("fx", "fy", "mz", "mx", "my")}
 
+    @property
+    def use_mode(self) -> int | None:
+        """The file's ``USE_MODE`` as an integer (None when absent or not an integer)."""
+        v = self.params.get("USE_MODE")
+        if v is None or not np.isfinite(v) or v != int(v):
+            return None
+        return int(v)
+
     def _has(self, part: str) -> bool:
-        """The file models ``part``: one of its required coefficients is given and non-zero.
+        """The file models ``part``: USE_MODE computes it, it is not declared not fitted,
+        and one of its required coefficients is given and non-zero.
 
         Fitting houses write the parts they did not fit as zeros (Stackpole's
         TTC PAC2002 files, ``USE_MODE = 2``: 'Fy, Mx, Mz only', every Fx
         coefficient 0); such a part is absent, not unphysical.
         """
-        return any(self.params.get(k, 0.0) != 0.0 for k in REQUIRED_MF[part])
+        return _PART_CHANNEL[part] in self._computed and any(self.params.get(k, 0.0) != 0.0
+                                                             for k in REQUIRED_MF[part])
+
+    @property
+    def has_overturning(self) -> bool:
+        """Mx is computed (USE_MODE, not declared not fitted) and the lateral part exists."""
+        return "mx" in self._computed and self.has_lateral
+
+    @property
+    def has_rolling(self) -> bool:
+        """My is computed (USE_MODE, not declared not fitted)."""
+        return "my" in self._computed
 
     @property
     def has_lateral(self) -> bool:
@@ -232,6 +328,16 @@ class MFTyre(Tyre):
         """Questionable but evaluable: E > 1, Kxk <= 0, Kya = 0 or changing sign, or mu > 5 inside the range;
         MF 6.1-only coefficients in an MF 5.2 file, which the 5.2 equations do not use."""
         out = self._factor_problems(n, hard=False)
+        raw = self.params.get("USE_MODE")
+        if raw is not None and self.use_mode is None:
+            out.append(f"USE_MODE = {raw:g} is not an integer; every part is evaluated, combined")
+        elif self.use_mode is not None:
+            if abs(self.use_mode) % 10 not in USE_MODE_OUTPUTS:
+                out.append(f"USE_MODE = {self.use_mode}: last digit {abs(self.use_mode) % 10} is not 0-5; "
+                           "every part is evaluated, combined")
+            if self.use_mode < 0:
+                out.append(f"USE_MODE = {self.use_mode} < 0 asks Adams to mirror the tyre characteristics; tyrefit "
+                           "evaluates the coefficients as written")
         if self.family == "MF52":
             unused = [k for k in _MF61_ONLY if self.params.get(k, 0.0) != 0.0]
             if unused:
