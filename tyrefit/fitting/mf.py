@@ -931,6 +931,105 @@ def _starts(stage: Stage, c0: dict[str, float]) -> list[dict[str, float]]:
     return [c0]
 
 
+#: coefficients that enter a stage's channel linearly, and a coarse grid of the others for the variable
+#: projection start (:class:`_Projection`).  MF 6.1 Mx (tyrefit.models.mf61._mx):
+#: Mx/(R0 Fz) = QSX1 - QSX2 g (1 + PPMX1 dpi) + QSX3 Fy/Fz0 + QSX4 cos(QSX5 atan((QSX6 Fz/Fz0)^2))
+#: sin(QSX7 g + QSX8 atan(QSX9 Fy/Fz0)) + QSX10 atan(QSX11 Fz/Fz0) g + (Fy/Fz)(QSX13 + QSX14 |g|) - QSX12 g|g|.
+#: The grid uses the model's symmetries: cos is even (QSX5, QSX6 > 0), flipping QSX4, QSX7, QSX8 together
+#: leaves the sine term unchanged (QSX8 > 0), QSX10 absorbs the sign of QSX11 (QSX11 > 0).  Over a rig's
+#: range (camber <= 0.1 rad, |Fy/Fz0| <= 3) the grid spans sine arguments from nearly linear to past pi/2.
+_LINEAR = {"Mx": ("QSX1", "QSX2", "QSX3", "QSX4", "QSX10", "QSX12", "QSX13", "QSX14")}
+_GRID = {"Mx": {"QSX5": (0.2, 0.6, 1.2), "QSX6": (0.5, 1.0, 2.0), "QSX7": (-2.0, -0.5, 0.5, 2.0),
+                "QSX8": (1.0, 4.0), "QSX9": (-0.3, -0.03, 0.03, 0.3), "QSX11": (0.3, 1.0, 3.0)}}
+#: points per sweep for the grid of the variable projection
+_GRID_POINTS = 15
+
+
+class _Projection:
+    """Variable projection (Golub & Pereyra 1973) of a stage whose channel is linear in some coefficients.
+
+    For fixed nonlinear coefficients q the weighted residual ``w (y(q, b) - y_data)`` is affine in the
+    linear ones b, so b is a linear least-squares solution and the cost a function of q alone.  The
+    columns are taken from the model itself (the channel at b_k = 1 minus the channel at b = 0), so
+    nothing of the model is transcribed; columns that do not move with q are evaluated once.  A grid over
+    q picks the starts; the best few are refined by :func:`least_squares` in q only.  This removes the
+    local minima that the joint problem has where a linear and a nonlinear term trade off (Mx: QSX2/QSX3
+    against the near-linear sine term QSX4 sin(QSX7 g + QSX8 atan(QSX9 Fy/Fz0))).
+    """
+
+    def __init__(self, prob: "_Problem", linear: Sequence[str], nonlinear: Sequence[str], base: Mapping[str, float]):
+        self.prob, self.linear, self.nonlinear = prob, list(linear), list(nonlinear)
+        self.base = dict(base)
+        self.w = prob.w
+        self.nfev = 0
+        q0 = {k: float(self.base.get(k, 0.0)) for k in self.nonlinear}
+        q1 = {k: 1.1 * v + 0.1 for k, v in q0.items()}
+        self.y0_fixed, self.fixed = None, {}
+        q2 = {k: -0.7 * v - 0.3 for k, v in q0.items()}
+        (y0a, ca), (y0b, cb), (y0c, cc) = self._columns(q0), self._columns(q1), self._columns(q2)
+
+        def same(a, b, c):
+            return np.allclose(a, b, rtol=1e-12, atol=1e-15) and np.allclose(a, c, rtol=1e-12, atol=1e-15)
+
+        if same(y0a, y0b, y0c):
+            self.y0_fixed = y0a
+        # a column y(b_k = 1) - y(b = 0) that does not move with q is evaluated once
+        self.fixed = {k: ca[k] for k in self.linear if same(ca[k], cb[k], cc[k])}
+
+    def _columns(self, q: Mapping[str, float]) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        p = dict(self.base, **q, **{k: 0.0 for k in self.linear})
+        ev = self.prob.eval
+        y0 = self.y0_fixed if self.y0_fixed is not None else ev(p)
+        cols = {k: self.fixed[k] if k in self.fixed else ev(dict(p, **{k: 1.0})) - y0 for k in self.linear}
+        self.nfev += 1 + len(self.linear) - len(self.fixed)
+        return y0, cols
+
+    def solve_linear(self, q: Mapping[str, float]) -> tuple[np.ndarray, dict[str, float]]:
+        """(weighted residual, linear coefficients) at nonlinear coefficients ``q``."""
+        y0, cols = self._columns(q)
+        X = np.column_stack([cols[k] for k in self.linear]) * self.w[:, None]
+        rhs = self.w * (self.prob.y - y0)
+        ok = np.all(np.isfinite(X), axis=1) & np.isfinite(rhs)
+        if ok.sum() <= X.shape[1]:
+            return np.full(rhs.size, 1e3 * np.max(self.w)), {k: 0.0 for k in self.linear}
+        beta, *_ = np.linalg.lstsq(X[ok], rhs[ok], rcond=None)
+        r = np.where(ok, X @ beta - rhs, 1e3 * np.max(self.w))
+        return r, dict(zip(self.linear, beta.tolist()))
+
+    def best(self, grid: Mapping[str, Sequence[float]], n_refine: int = 3) -> dict[str, float]:
+        """Grid over the nonlinear coefficients, the ``n_refine`` best refined; the winner with its b."""
+        import itertools
+
+        names = [k for k in self.nonlinear if k in grid]
+        rows = []
+        for vals in itertools.product(*(grid[k] for k in names)):
+            q = {k: float(self.base.get(k, 0.0)) for k in self.nonlinear}
+            q.update(zip(names, vals))
+            r, _ = self.solve_linear(q)
+            rows.append((float(r @ r), q))
+        rows.sort(key=lambda t: t[0])
+        picked: list = []
+        for c, q in rows:  # distinct costs only (the symmetric twins of a point cost the same)
+            if all(abs(c - c2) > 1e-9 * max(c, 1e-30) for c2, _ in picked):
+                picked.append((c, q))
+            if len(picked) >= n_refine:
+                break
+        if not self.nonlinear:
+            return dict(self.solve_linear({})[1])
+        best = None
+        for _, q in picked:
+            th0 = np.array([q[k] for k in self.nonlinear])
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                sol = least_squares(lambda th: self.solve_linear(dict(zip(self.nonlinear, th)))[0], th0,
+                                    method="trf", x_scale="jac", max_nfev=60 * len(th0), ftol=1e-10, xtol=1e-10)
+            if best is None or sol.cost < best[0]:
+                best = (sol.cost, sol.x)
+        q = dict(zip(self.nonlinear, best[1].tolist()))
+        _, beta = self.solve_linear(q)
+        return {**q, **beta}
+
+
 # -------------------------------------------------------------------------- nominal values
 def _nominal(data: MFData, tyre_info: Mapping | None, base: Mapping[str, float]) -> dict[str, float]:
     sw = data.sweeps
@@ -1021,10 +1120,20 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     pkysign = base.get("PKY1", -1.0)
     core = [k for k in stage.core if k in want]
     starts = _starts(stage, base) if multistart and stage.name != "Mz*" else [base]
-    log, best = [], None
-    nfev = 0
-    # the multi-start runs on at most _START_POINTS points per sweep; the winner is polished on all points
     secondary = stage.name in ("Mx", "My")  # the moments a vehicle model barely uses: a cheaper search
+    lin = [k for k in _LINEAR.get(stage.name, ()) if k in want]
+    if lin and multistart:
+        # variable projection: a grid over the nonlinear coefficients, the linear ones solved exactly
+        pg = _Problem(stage, _thin(pts, _GRID_POINTS), base, want, nominal, version, "l2", scale, pkysign)
+        proj = _Projection(pg, lin, [k for k in want if k not in lin], base)
+        starts = [dict(base, **proj.best(_GRID[stage.name]))]
+        core = []
+        nfev_proj = proj.nfev
+    else:
+        nfev_proj = 0
+    log, best = [], None
+    nfev = nfev_proj
+    # the multi-start runs on at most _START_POINTS points per sweep; the winner is polished on all points
     pts_s = _thin(pts, _START_POINTS // 2 if secondary else _START_POINTS)
     for si, st in enumerate(starts):
         c = {k: (v if k in want else base.get(k, v)) for k, v in st.items()}
