@@ -284,3 +284,46 @@ def test_constraints_checked_on_the_grid_of_the_fitted_range(full_fit):
     ey = dict((n, v) for n, v, _ in _factors(bad, "Fy0", fz, 0.0 * fz, 0.0 * fz, np.ones(2)))["E_y <= 1"]
     assert np.min(ey) < 0
 
+
+
+def test_channel_of_pure_noise_is_not_fitted():
+    # qa bug 7: an MX channel of pure noise was fitted with 14 coefficients (R2 -0.0016)
+    df = gen.make_sweeps(seed=21, pressures=[260e3], cambers_deg=[0.0, 3.0], slip_angles_deg=[0.0], n_points=31,
+                         loads=[3000.0, 6000.0, 9000.0], combined=False)
+    noisy = df.assign(mx=np.random.default_rng(0).normal(0.0, 5.0, len(df)))
+    r = fit_mf(noisy, tyre_info=INFO, stages=["Fy0", "Mx"])
+    assert "Mx" not in r.stages and "Fy0" in r.stages
+    assert any("MX not fitted: no signal above its noise floor" in n for n in r.notes), r.notes
+    assert r.stats["mx"]["fitted"] is False
+    neutral = mf61.neutral()
+    assert all(r.params[k] == neutral[k] for k in ("QSX1", "QSX2", "QSX3", "QSX4"))
+    # the same record with its real Mx (1 % noise) is fitted: the rule tells signal from noise
+    real = fit_mf(df, tyre_info=INFO, stages=["Fy0", "Mx"])
+    assert "Mx" in real.stages and real.stats["mx"]["fitted"] and real.stats["mx"]["r2"] > 0.95
+
+
+def test_one_noise_floor_for_pac89_and_mf(tmp_path, capsys):
+    # qa bug 3 / issue 14: `fit X` and `fit X --model mf52` printed 62.1 and 68.5 N for one file
+    df = gen.make_sweeps(seed=22, pressures=[260e3], cambers_deg=[0.0, 3.0], slip_angles_deg=(), n_points=41,
+                         loads=[3000.0, 6000.0, 9000.0], combined=False)
+    f = _csv(df, tmp_path / "lat.csv")
+    floors = []
+    for extra in ([], ["--model", "mf52"]):
+        assert main(["fit", str(f), "--out", str(tmp_path / f"t{len(extra)}.tir"), *extra]) == 0
+        text = capsys.readouterr().out
+        floors.append(float(text.split("noise floor ")[1].split(" N")[0]))
+    assert floors[0] == pytest.approx(floors[1], rel=1e-3), floors  # the same number, printed to 3-4 digits
+    # and it estimates the generator's noise (1 % of each sweep's peak |Fy|, pooled)
+    sig = df.groupby("run")["true_fy"].transform(lambda v: 0.01 * np.max(np.abs(v)))
+    assert abs(floors[1] / float(np.sqrt(np.mean(sig**2))) - 1.0) < 0.15
+
+
+def test_rhx1_from_two_slip_angles_of_one_sign():
+    # the TTC drive/brake programme has combined sweeps at -3 and -6 deg only: RHX1 (4.E55) is fitted
+    sw = pd.DataFrame({"run": range(4), "fz": [3e3, 6e3] * 2, "camber": 0.0, "speed": np.nan, "pressure": 2.6e5,
+                       "slip_angle": np.radians([-3.0, -3.0, -6.0, -6.0]), "kind": "combined"})
+    pts = pd.DataFrame({"slip_ratio": np.linspace(-0.2, 0.2, 20)})
+    why, _ = identifiability("Fx", pts, sw)
+    assert "RHX1" not in why
+    why1, _ = identifiability("Fx", pts, sw.assign(slip_angle=math.radians(-4.0)))
+    assert "RHX1" in why1

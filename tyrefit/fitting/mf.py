@@ -85,8 +85,8 @@ listed with the reason.  Counts are taken over the sweeps of the stage:
   stiffness peak, inside the atan of 4.E25) >= 3, or 2 with >= 3 loads;
 * shifts need both slip signs reaching half the largest |slip| (PHX1, PVX1,
   PHY1, PVY1, QHZ1, QDZ6, PEX4 (drive and brake), PEY3, QEZ4, RVY1/RVY5/RVY6
-  and RHY1 (drive and brake in the combined sweeps), RHX1 (both slip-angle
-  signs in the combined sweeps));
+  and RHY1 (drive and brake in the combined sweeps), RHX1 (>= 2 non-zero
+  slip angles, or both signs, in the combined sweeps));
 * combined slip needs combined sweeps; RBY3 and RVY4 >= 2 slip-angle levels;
 * speed: QSY3/QSY4 need >= 2/3 speeds (MF 6.1 has no other speed coefficient;
   its friction-speed law is the scaling factor LMUV, which is not fitted);
@@ -286,6 +286,8 @@ class MFData:
     sweeps: pd.DataFrame
     sources: list[str]
     notes: list[str] = field(default_factory=list)
+    #: noise floor per channel [N or N*m], filled on first use (:func:`channel_signal`)
+    floors: dict = field(default_factory=dict)
 
     def subset(self, kinds: Sequence[str], channel: str) -> pd.DataFrame:
         d = self.df[self.df["kind"].isin(kinds)]
@@ -423,6 +425,40 @@ def prepare_mf_data(data, *, convention: str = "iso") -> MFData:
     return MFData(df, sw.reset_index(), sources, notes)
 
 
+#: a channel whose scatter about its mean is within this factor of its noise floor carries no signal
+SIGNAL_RATIO = 1.25
+
+
+def channel_signal(data: MFData, channel: str) -> tuple[float, float, str]:
+    """(scatter, noise floor, reason) of one measured channel; reason is '' when it carries a signal.
+
+    The scatter is the rms of the channel about its mean over every point that measures it; the noise
+    floor is the one of ``fit``/``diagnose`` (:func:`tyrefit.fitting.mf_result._noise_floor`).  For
+    pure noise the two are equal, so a channel whose scatter is within :data:`SIGNAL_RATIO` x the floor
+    (signal variance < 0.56 x the noise variance) is not fitted: its coefficients would model noise (qa
+    bug 7: 14 Mx coefficients fitted to a pure-noise MX channel, R^2 -0.0016).
+    """
+    from .mf_result import _noise_floor
+
+    d = data.df
+    if channel not in d:
+        return float("nan"), float("nan"), ""
+    d = d[np.isfinite(d[channel].to_numpy(float))]
+    if len(d) < 10:
+        return float("nan"), float("nan"), ""
+    if channel not in data.floors:
+        data.floors[channel] = _noise_floor(d, channel)
+    floor = data.floors[channel]
+    y = d[channel].to_numpy(float)
+    scatter = float(np.sqrt(np.mean((y - y.mean()) ** 2)))
+    if np.isfinite(floor) and floor > 0 and scatter <= SIGNAL_RATIO * floor:
+        unit = "N*m" if channel in ("mz", "mx", "my") else "N"
+        return scatter, floor, (f"{channel.upper()} not fitted: no signal above its noise floor (scatter "
+                                f"{scatter:.3g} {unit} rms about its mean, noise floor {floor:.3g} {unit}; "
+                                f"needs > {SIGNAL_RATIO:g} x)")
+    return scatter, floor, ""
+
+
 # ------------------------------------------------------------------------ condition levels
 def _levels(values, tol: float) -> list[float]:
     v = np.sort(np.asarray(values, float))
@@ -547,8 +583,12 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
     if st.name in ("Fy", "Fx"):
         need(["RVY1", "RVY2", "RVY3", "RVY5", "RVY6", "RHY1", "RHY2"], both,
              bothr.replace("needs", "needs drive and brake:"))
-        need(["RHX1"], len(a_sign) >= 2, f"needs combined sweeps at slip angles of both signs "
-                                          f"(data: {sorted(round(a / _DEG, 1) for a in nz_alpha)} deg)")
+        # the shift SHxa = RHX1 moves G_xa along alpha; G_xa(alpha = 0) = 1 by its normalisation (4.E55), so
+        # one slip-angle level cannot tell it from B_xa, two of one sign (TTC: -3, -6 deg) can (measured:
+        # 0.0031 fitted for 0.0037 generated from -3/-6 deg sweeps at 1 % noise)
+        need(["RHX1"], len(a_sign) >= 2 or len(nz_alpha) >= 2,
+             f"needs combined sweeps at >= 2 non-zero slip angles or at both signs "
+             f"(data: {sorted(round(a / _DEG, 1) for a in nz_alpha)} deg)")
         need(["RBY3", "RVY4"], len(nz_alpha) >= 2,
              f"needs combined sweeps at >= 2 non-zero slip angles (data: {len(nz_alpha)})")
     if st.name == "Mx":
@@ -1281,9 +1321,16 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
         notes += en
     vary_set = {str(k).upper() for k in vary} if vary is not None else None
     fits: dict[str, StageFit] = {}
+    quiet: dict[str, str] = {}
     with single_threaded_blas():
         for st in STAGES:
             if stages is not None and st.name not in stages:
+                continue
+            if st.channel not in quiet:
+                quiet[st.channel] = channel_signal(data, st.channel)[2]
+                if quiet[st.channel]:
+                    notes.append(quiet[st.channel])
+            if quiet[st.channel]:
                 continue
             only = None
             if st.name == "Mz*":
