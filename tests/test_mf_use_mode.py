@@ -188,3 +188,20 @@ def test_size_rated_load_and_loaded_radius_replace_placeholders(tmp_path, capsys
     dim = re.search(r"PLACEHOLDER \[DIMENSION\][^:]*:([^$]*?)PLACEHOLDER", head).group(1)
     assert "RIM_WIDTH" in dim and not re.search(r"\b(UNLOADED_RADIUS|WIDTH|ASPECT_RATIO)\b", dim)
     assert "UNLOADED_RADIUS" not in printed.split("PLACEHOLDERS")[-1]
+
+
+# ---------------------------------------------------------------- fit --json: what Chrono needs, named
+def test_fit_json_names_exactly_the_flags_chrono_still_needs(tmp_path, capsys):
+    """Chrono's Pac89Tire::Create reads Mass, Inertia and the Design Parameters (radius, width, stiffnesses,
+    damping) without defaults; fit names the flags that give the missing ones, one line, nothing written."""
+    data = str(Path(__file__).parents[1] / "data" / "truck" / "tyre_a_dynamic.csv")
+    out, js = tmp_path / "a.tir", tmp_path / "a.json"
+    assert main(["fit", data, "--out", str(out), "--json", str(js)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--size" in err[0] and "--rated-load" in err[0] and "Mass" in err[0]
+    assert main(["fit", data, "--out", str(out), "--json", str(js), "--size", "385/65R22.5"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    # the size gives radius, width, mass and inertia: only the stiffness flags are asked for
+    assert len(err) == 1 and "--size" not in err[0] and "--rated-load" in err[0] and "Mass" not in err[0]
+    assert "Vertical Stiffness" in err[0]
+    assert not out.exists() and not js.exists()

@@ -143,7 +143,7 @@ def fit_file(args, ds=None):
     from ..tyres.size import complete_design
 
     notes += [n for n in complete_design(result.tyre, size, getattr(args, "rated_load", None))
-              if "ESTIMATED" in n or n.startswith("no tyre size")]
+              if "ESTIMATED" in n or "not estimated" in n or n.startswith("no tyre size")]
     result.notes.extend(n for n in notes if n not in result.notes)
     return result, extras
 

@@ -175,6 +175,9 @@ def design_data(result, datasets, size, measured: dict) -> list[str]:
         keys = {"mass": ("MASS",), "inertia": ("IXX", "IYY"), "vertical_stiffness": ("VERTICAL_STIFFNESS",),
                 "lateral_stiffness": ("LATERAL_STIFFNESS",), "vertical_damping": ("VERTICAL_DAMPING",)}
         for name, (value, note) in est.items():
+            if value is None:  # not_estimated: said, nothing set
+                lines.append(note)
+                continue
             vals = value[:2] if name == "inertia" else (value,)
             for k, v in zip(keys[name], vals):
                 p[k] = float(v)

@@ -131,6 +131,21 @@ REQUIRED_DESIGN = ("Unloaded Radius", "Width", "Lateral Stiffness", "Vertical St
                    "Rolling Resistance")
 
 
+def _flags_for(missing: list[str]) -> str:
+    """The ``fit`` flags that give the missing Chrono keys (see :func:`tyrefit.tyres.size.complete_design`)."""
+    geometry = {"Unloaded Radius", "Width", "Mass", "Inertia"} & set(missing)
+    stiffness = {"Vertical Stiffness", "Lateral Stiffness", "Vertical Damping"} & set(missing)
+    flags = []
+    if geometry:
+        flags.append("--size (e.g. 385/65R22.5: radius and width; mass and inertia estimated from them)")
+    if stiffness:
+        flags.append("--rated-load NEWTONS (vertical stiffness estimated as 15 % deflection of the section height, "
+                     "lateral stiffness and damping from it) or --vertical VERTICAL.csv (measured)")
+    if "Rolling Resistance" in missing:
+        flags.append("a rolling resistance")
+    return "give fit " + " and ".join(flags)
+
+
 def chrono_dict(tyre: Pac89Tyre, mass: float | None = None, inertia=None) -> dict:
     """The Chrono JSON document of ``tyre`` as a dict, with every key Chrono reads unconditionally.
 
@@ -153,8 +168,7 @@ def chrono_dict(tyre: Pac89Tyre, mass: float | None = None, inertia=None) -> dic
     missing += [k for k, v in (("Mass", mass), ("Inertia", inertia)) if v is None]
     if missing:
         raise ModelError(f"Chrono's Pac89Tire JSON needs {', '.join(missing)}, which this tyre does not have; "
-                         "give fit --size (radius, width, estimates of mass, inertia, damping) and --rated-load or "
-                         "--vertical (stiffness)")
+                         + _flags_for(missing))
     if tyre.lateral_stiffness <= 0:
         raise ModelError(f"Lateral Stiffness = {tyre.lateral_stiffness!r} N/m: Chrono divides Fy by it; it must be "
                          "positive")

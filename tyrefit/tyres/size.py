@@ -132,7 +132,10 @@ def design_estimates(*, unloaded_radius: float, width: float, rim_radius: float 
     Parameters are SI; a value given is kept and not estimated.  Returns
     ``{name: (value, note)}`` for ``mass`` [kg], ``inertia`` [kg m^2] x 3,
     ``vertical_stiffness`` [N/m], ``lateral_stiffness`` [N/m],
-    ``vertical_damping`` [N s/m] -- only those that were missing.
+    ``vertical_damping`` [N s/m] -- only those that were missing.  Without a
+    stiffness and without a rated load, the stiffnesses and the damping cannot
+    be estimated: mass and inertia are returned with a ``not_estimated`` entry
+    ``(None, sentence)``.
     """
     R, w = float(unloaded_radius), float(width)
     r = rim_radius if rim_radius else (R - w * aspect_ratio if aspect_ratio else 0.55 * R)
@@ -154,9 +157,10 @@ def design_estimates(*, unloaded_radius: float, width: float, rim_radius: float 
                                            f"ESTIMATED: tread ring at R = {R:.3f} m, sidewall annuli from r = {r:.3f} m")
     k = vertical_stiffness
     if k is None:
-        if not rated_load:
-            raise DataError("no vertical stiffness: give a vertical test (--vertical) or the rated load "
-                            "(--rated-load) to estimate it")
+        if not rated_load:  # mass and inertia stand; stiffness and damping need a load or a vertical test
+            out["not_estimated"] = (None, "VERTICAL_STIFFNESS, LATERAL_STIFFNESS, VERTICAL_DAMPING not estimated: "
+                                          "give a vertical test (--vertical) or the rated load (--rated-load)")
+            return out
         height = max(R - r, 1e-3)
         k = rated_load / (0.15 * height)
         out["vertical_stiffness"] = (k, f"VERTICAL_STIFFNESS {k / 1e3:.4g} N/mm ESTIMATED as 15 % deflection of the "
@@ -206,7 +210,8 @@ def complete_design(tyre, size: TyreSize | None = None, rated_load: float | None
         notes.append(f"not estimated: {exc}")
         return notes
     for key, (value, note) in est.items():
-        setattr(tyre, key, value)
+        if value is not None:
+            setattr(tyre, key, value)
         notes.append(note)
     tyre.header = list(tyre.header) + [n for n in notes if n not in tyre.header]
     return notes
