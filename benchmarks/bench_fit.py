@@ -20,9 +20,9 @@ Measurements per size:
 
 * ``fit_pac89`` end to end (Eq. 2-4 estimates, staged multi-start fit,
   statistics, FitResult) vs the plain FD solve;
-* the core solve alone (one ``least_squares`` call from the same start with
-  tyrefit's analytic Jacobian, same settings otherwise) vs the same call with
-  ``jac='2-point'`` - the Jacobian's share.
+* the core solve alone (one :func:`tyrefit.fitting.core.solve` call, SciPy's
+  ``least_squares``, from the same start with tyrefit's analytic Jacobian, same
+  settings otherwise) vs the same call with ``jac='2-point'`` - the Jacobian's share.
 
 * robustness (3k only): plain FD ``least_squares`` from three textbook
   starting points (no Eq. 2-4 estimates) vs ``fit_pac89(initial=...)`` from
@@ -127,6 +127,7 @@ def _robustness(df, fit_pac89, single_threaded_blas) -> dict:
 def run() -> dict:
     from tyrefit.fitting import fit_pac89
     from tyrefit.fitting._blas import single_threaded_blas
+    from tyrefit.fitting.core import solve
     from tyrefit.fitting.engine import _Problem, prepare_data
 
     out, info = [], {"sizes": {}}
@@ -151,12 +152,12 @@ def run() -> dict:
         parts, _ = prepare_data(df)
         prob = _Problem(parts["lateral"], start, list(res.coefficients.query("part == 'lateral' and varied")["name"]),
                         "l2")
-        th0 = prob.theta_of(start)
-        kw = dict(bounds=(prob.lb, prob.ub), method="trf", x_scale="jac", ftol=1e-10, xtol=1e-10, gtol=1e-10)
+        pars = prob.parameters(prob.theta_of(start))
+        kw = dict(weights=prob.weights, method="trf", x_scale="jac", tol=1e-10, stderr=False)
         with single_threaded_blas():
-            t_an, r_an = best_of(lambda: least_squares(prob.residual, th0, jac=prob.jac, **kw), repeat=repeat)
-            t_2p, r_2p = best_of(lambda: least_squares(prob.residual, th0, jac="2-point", **kw), repeat=repeat)
-        out.append(measurement(f"one least_squares solve, analytic Jacobian, {npts} points", t_an,
+            t_an, r_an = best_of(lambda: solve(prob.residual, pars, jac=prob.jac, **kw), repeat=repeat)
+            t_2p, r_2p = best_of(lambda: solve(prob.residual, pars, jac="2-point", **kw), repeat=repeat)
+        out.append(measurement(f"one core solve (least_squares), analytic Jacobian, {npts} points", t_an,
                                "same solve, jac='2-point'", t_2p, points=npts,
                                rmse_N=_rmse(prob.coeffs_of(r_an.x), df), baseline_rmse_N=_rmse(prob.coeffs_of(r_2p.x), df),
                                nfev=int(r_an.nfev), baseline_nfev=int(r_2p.nfev)))

@@ -88,8 +88,8 @@ from scipy.optimize import least_squares
 
 from ..errors import FitError
 
-__all__ = ["Parameter", "Parameters", "Sweeps", "Solution", "solve", "COSTS", "ROBUST_LOSSES",
-           "interior", "huber", "soft_l1"]
+__all__ = ["Parameter", "Parameters", "Sweeps", "Solution", "solve", "objective", "covariance", "COSTS",
+           "ROBUST_LOSSES", "interior", "huber", "soft_l1", "lm_normal"]
 
 
 # ------------------------------------------------------------------------------ parameters
@@ -438,6 +438,25 @@ class Solution:
 
 
 # ------------------------------------------------------------------------------ the solver
+class _Cached:
+    """The caller's residual, remembering its last few evaluations (the start check, SciPy's first call and
+    the final statistics then share them)."""
+
+    def __init__(self, fun, size: int = 3):
+        self.fun, self.size, self.memo = fun, size, []
+
+    def __call__(self, x):
+        key = np.asarray(x, dtype=float).tobytes()
+        for k, v in self.memo:
+            if k == key:
+                return v
+        v = np.asarray(self.fun(np.array(x, dtype=float)), dtype=float)
+        self.memo.append((key, v))
+        if len(self.memo) > self.size:
+            self.memo.pop(0)
+        return v
+
+
 class _Weighted:
     """The caller's residual r(x) (and Jacobian) as the solver sees it: m * r with m per the cost."""
 
@@ -557,6 +576,7 @@ def solve(residual: Callable[[np.ndarray], np.ndarray], params: Parameters, *,
     w = None if weights is None else np.asarray(weights, dtype=float)
     if starts is None:
         starts = [x_start]
+    residual = _Cached(residual)
     if not names:  # nothing varies: evaluate only
         r = np.asarray(residual(x_start), dtype=float)
         return _solution(params, names, x_start, r, None, w, n_data, cost, scale, 1, True, "nothing to fit",
@@ -579,12 +599,13 @@ def solve(residual: Callable[[np.ndarray], np.ndarray], params: Parameters, *,
             log.append({"start": si, "cost": float("inf"), "nfev": n})
             continue
         r = np.asarray(residual(x), dtype=float)
-        c = _objective(r, w, cost, scale)
+        c = objective(r, w, cost, scale)
         log.append({"start": si, "cost": c, "nfev": n})
         if best is None or c < best[0]:
             best = (c, x, r, ok, msg, J_fd)
     if best is None:
-        raise FitError(f"{what}: the model is not finite at the start values; check the data units and signs")
+        raise FitError(f"{what}: the model is not finite at the start values; check the data (units, signs, a flat "
+                       "or zero channel?)")
     _, x, r, ok, msg, J = best
     if stderr and J is None:
         J = _unweighted_jac(residual, jac, fun_jac, x, lb, ub, typical, r)
@@ -661,7 +682,8 @@ def _lsq(fr: _Weighted, jac, x0, lb, ub, x_scale, loss, f_scale, method, tol, ma
                              max_nfev=max_nfev)
 
 
-def _objective(r, w, cost, scale) -> float:
+def objective(r, w, cost: str = "l2", scale=None) -> float:
+    """The cost of residuals ``r`` with weights ``w`` (None: 1) under ``cost`` (see the module docstring)."""
     ww = None if w is None else _pad(w, r.size)
     if cost == "l2":
         return float(np.sum(r * r if ww is None else ww * r * r))
@@ -694,17 +716,35 @@ def _unweighted_jac(residual, jac, fun_jac, x, lb, ub, typical, r):
     return J
 
 
-def _solution(params, names, x, r, J, w, n_data, cost, scale, nfev, ok, msg, log, *, stderr) -> Solution:
+def covariance(J: np.ndarray, r: np.ndarray, w: np.ndarray | None = None, n_data: int | None = None
+               ) -> tuple[np.ndarray, float]:
+    """Gauss-Newton covariance of the parameters and the residual variance s^2.
+
+    cov = s^2 (J_w^T J_w)^+ with J_w = sqrt(w) J and s^2 = sum w r^2 / (N - p)
+    over the first ``n_data`` rows (the least-squares weighting, whatever the
+    cost).  The pseudo-inverse is taken with the columns of J_w scaled to unit
+    norm, so that its cut-off sees the problem's conditioning and not the
+    parameters' units (a stiffness of 4e7 N/m beside a friction of 1).
+
+    Parameters
+    ----------
+    J : ndarray (N, p)
+        Jacobian of the unweighted residual.
+    r : ndarray (N,)
+        Unweighted residual.
+    w : ndarray, optional
+        Cost weights (default 1).
+    n_data : int, optional
+        Data rows (default all).
+    """
     n = r.size if n_data is None else int(n_data)
     rd = r[:n]
     wd = np.ones(n) if w is None else _pad(w, r.size)[:n]
-    p = len(names)
+    p = J.shape[1]
     s2 = float(np.sum(wd * rd * rd)) / max(1, n - p)
     cov = np.full((p, p), np.nan)
-    if stderr and J is not None and p:
+    if p:
         Jw = J[:n] * np.sqrt(wd)[:, None]
-        # in column-scaled coordinates, so that the pseudo-inverse's cut-off sees the problem's conditioning
-        # and not the parameters' units (a stiffness of 4e7 N/m beside a friction of 1)
         d = np.linalg.norm(Jw, axis=0)
         d = np.where(d > 0, d, 1.0)
         try:
@@ -712,11 +752,23 @@ def _solution(params, names, x, r, J, w, n_data, cost, scale, nfev, ok, msg, log
             cov = np.linalg.pinv(Js.T @ Js) / np.outer(d, d) * s2
         except np.linalg.LinAlgError:  # pragma: no cover
             pass
+    return cov, s2
+
+
+def _solution(params, names, x, r, J, w, n_data, cost, scale, nfev, ok, msg, log, *, stderr) -> Solution:
+    n = r.size if n_data is None else int(n_data)
+    rd = r[:n]
+    p = len(names)
+    if stderr and J is not None and p:
+        cov, s2 = covariance(J, r, w, n_data)
+    else:
+        wd = np.ones(n) if w is None else _pad(w, r.size)[:n]
+        cov, s2 = np.full((p, p), np.nan), float(np.sum(wd * rd * rd)) / max(1, n - p)
     sd = np.sqrt(np.clip(np.diag(cov), 0, None)) if p else np.zeros(0)
     out = params.copy()
     out.set_vector(x, sd if stderr else None)
     return Solution(params=out, x=np.asarray(x, dtype=float), names=list(names),
-                    stderr=dict(zip(names, sd.tolist())), cov=cov, cost=_objective(r, w, cost, scale),
+                    stderr=dict(zip(names, sd.tolist())), cov=cov, cost=objective(r, w, cost, scale),
                     rmse=float(np.sqrt(np.mean(rd * rd))) if n else float("nan"), s2=s2, resid=r, nfev=int(nfev),
                     success=bool(ok), message=msg, starts=log, jac=J)
 

@@ -20,8 +20,10 @@ with the *measured* Fz_i (static-rig loads fall during a push).  Costs:
   (``soft_l1`` loss) whose scale is shrunk in two continuation steps from
   the l2 solution, so it converges to the l1 minimum.
 
-Solver: :func:`scipy.optimize.least_squares` (trust-region reflective) with
-the analytic Jacobian of :mod:`tyrefit.models.pac89` for all points at once.
+Solver: the one fitting core, :func:`tyrefit.fitting.core.solve` (SciPy's
+trust-region reflective ``least_squares``) with the analytic Jacobian of
+:mod:`tyrefit.models.pac89` for all points at once; the cost (l2, Eq. 5 l1,
+Huber, soft l1) and the 1/n_s sweep weights are the core's options.
 The coefficients are held as :class:`lmfit.Parameters` (value, bounds,
 ``vary``, standard error, correlations) in the result.
 
@@ -75,12 +77,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import least_squares
 
 from ..errors import DataError, FitError
 from ..models import pac89
 from . import initial as ini
 from ._blas import single_threaded_blas
+from .core import Parameters, covariance, huber, soft_l1, solve
+from .core import objective as core_objective
 
 __all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
 
@@ -561,12 +564,11 @@ class _Problem:
         self.cost = cost
         lo, hi = d.fz_range
         self.lo, self.hi = lo * 1e-3, hi * 1e-3
-        self.w = 1.0 / np.sqrt(d.n_per_run) if cost == "l2" else 1.0 / d.n_per_run
+        self.weights = 1.0 / d.n_per_run  # each sweep counts once (the core's Sweeps default)
         self.inv_fz = 1.0 / d.norm
         self.scale = None  # robust costs: per-point scale of the mu residual (see robust_scale)
         if cost in ROBUST_LOSSES:
             self.scale = robust_scale(d)
-            self.w = 1.0 / self.scale
         self.method = "trf"  # dogbox was faster on some problems but took 2400 evaluations on others
         self._build()
 
@@ -649,41 +651,42 @@ class _Problem:
 
     # -- residuals --------------------------------------------------------------
     def residual(self, theta):
+        """Residual on mu = (F_model - F) / load of every point (unweighted; the core applies 1/n_s)."""
         p = self.coeffs_of(theta)
         y = self.spec.model(p, self.d.fz, self.d.slip, self.d.camber)
-        return self.w * (y - self.d.y) * self.inv_fz
+        return (y - self.d.y) * self.inv_fz
 
     def jac(self, theta):
+        """d residual / d theta (the analytic PAC89 Jacobian through the affine parametrisation)."""
         p = self.coeffs_of(theta)
         _, J = self.spec.jacobian(p, self.d, self.used)
-        J = J * (self.w * self.inv_fz)[:, None]
+        J = J * self.inv_fz[:, None]
         return J @ self.T[self.used_idx, :]
 
-    def _robust_loss(self, z):
-        """(1/n_s) s_i^2 rho(z) and its first two derivatives: the sweep weighting of the robust costs."""
-        rho = ROBUST_LOSSES[self.cost](z)
-        return rho * (self.scale**2 / self.d.n_per_run)
+    def parameters(self, theta) -> Parameters:
+        """theta as the core's parameters: the varied coefficients and constrained end values, with bounds."""
+        pars = Parameters()
+        for name, v, lo, hi in zip(self.theta_names, theta, self.lb, self.ub):
+            pars.add(name, float(v), min=lo, max=hi)
+        return pars
 
-    def solve(self, theta0, *, loss="linear", f_scale=1.0, max_nfev=None, tol=1e-9):
+    def solve(self, theta0, *, cost=None, max_nfev=None, tol=1e-9):
+        """Solve this part's problem from ``theta0`` with the fitting core; returns (theta, nfev).
+
+        ``cost`` defaults to the problem's own; each sweep weighs 1/n_s, robust
+        costs use :func:`robust_scale` as the per-point scale.
+        """
         if len(theta0) == 0:
             return theta0, 0
-        if not np.all(np.isfinite(self.residual(theta0))):
-            raise FitError(f"{self.spec.name}: the model is not finite at the start values estimated from the data "
-                           "(Eq. 2-4 found no force to fit: a flat or zero channel?); check the sweeps and units")
-        if self.scale is not None:
-            loss, f_scale = self._robust_loss, 1.0
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            r = least_squares(self.residual, theta0, jac=self.jac, bounds=(self.lb, self.ub), method=self.method,
-                              x_scale="jac", loss=loss, f_scale=f_scale, max_nfev=max_nfev or 200 * (len(theta0) + 1),
-                              ftol=tol, xtol=tol, gtol=tol)
-        return r.x, int(r.nfev)
+        sol = solve(self.residual, self.parameters(theta0), jac=self.jac, weights=self.weights,
+                    cost=cost or self.cost, scale=self.scale, method=self.method, x_scale="jac",
+                    max_nfev=max_nfev or 200 * (len(theta0) + 1), tol=tol, stderr=False,
+                    what=self.spec.name)
+        return sol.x, sol.nfev
 
     def objective(self, theta) -> float:
-        r = self.residual(theta)
-        if self.scale is not None:
-            return float(np.sum(self._robust_loss(r * r)[0]))
-        return float(np.sum(r * r)) if self.cost == "l2" else float(np.sum(np.abs(r)))
+        """The cost at ``theta``: sum w r^2 (l2), sum w |r| (l1), sum w s^2 rho((r/s)^2) (robust); w = 1/n_s."""
+        return core_objective(self.residual(theta), self.weights, self.cost, self.scale)
 
     def mu_residual(self, theta) -> np.ndarray:
         """Unweighted residual on mu = F / load (the load as in :attr:`PartData.norm`)."""
@@ -691,25 +694,8 @@ class _Problem:
         return (self.spec.model(p, self.d.fz, self.d.slip, self.d.camber) - self.d.y) * self.inv_fz
 
 
-def _huber(z):
-    """Huber's loss on z = (r/s)^2 with its derivatives in z (rows: rho, rho', rho'')."""
-    out = np.empty((3, z.size))
-    small = z <= 1.0
-    sz = np.sqrt(np.where(small, 1.0, z))
-    out[0] = np.where(small, z, 2.0 * sz - 1.0)
-    out[1] = np.where(small, 1.0, 1.0 / sz)
-    out[2] = np.where(small, 0.0, -0.5 / (sz * np.where(small, 1.0, z)))
-    return out
-
-
-def _soft_l1(z):
-    """Pseudo-Huber (soft l1) loss 2 (sqrt(1 + z) - 1) with its derivatives in z."""
-    t = 1.0 + z
-    return np.vstack([2.0 * (np.sqrt(t) - 1.0), t**-0.5, -0.5 * t**-1.5])
-
-
 #: the outlier-resistant costs: rho of z = (r / s)^2, r the mu residual, s = HUBER_K x the sweep's noise
-ROBUST_LOSSES = {"huber": _huber, "soft_l1": _soft_l1}
+ROBUST_LOSSES = {"huber": huber, "soft_l1": soft_l1}
 #: Huber's tuning constant: 95 % efficiency at Gaussian noise (Huber, Robust Statistics, 1981)
 HUBER_K = 1.345
 COSTS = ("l2", "l1", "soft_l1", "huber")
@@ -869,21 +855,13 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
                      f"cost has C = {r_['C']:.3g}, E = {r_['E']:.3g} (best: C = {c_best:.3g}); over the tested slip "
                      "range the two shapes nearly coincide, so C and E are weakly determined (their standard errors "
                      "are local)")
-    if cost == "l1" and len(theta):
-        # Komana et al., Eq. 5: sum of absolute errors, by pseudo-Huber continuation from the l2 solution
-        pl1 = _Problem(d, prob.coeffs_of(theta), want, "l1")
-        th = pl1.theta_of(prob.coeffs_of(theta))
-        scale0 = float(np.median(np.abs(pl1.residual(th)))) or 1e-6
-        for fs in (0.3 * scale0, 0.03 * scale0, 0.003 * scale0):
-            th, n = pl1.solve(th, loss="soft_l1", f_scale=fs)
-            nfev_total += n
-        prob, theta = pl1, th
-    elif cost in ROBUST_LOSSES and len(theta):
-        # outlier-resistant: Huber / soft-l1 on the mu residual scaled by each sweep's noise, from the l2 solution
-        pr = _Problem(d, prob.coeffs_of(theta), want, cost)
-        th, n = pr.solve(pr.theta_of(prob.coeffs_of(theta)))
+    if cost in ("l1", *ROBUST_LOSSES) and len(theta):
+        # from the l2 solution: Komana et al.'s Eq. 5 (sum of absolute errors, which the core reaches by
+        # pseudo-Huber continuation), or Huber / soft-l1 on the mu residual scaled by each sweep's noise
+        pc = _Problem(d, prob.coeffs_of(theta), want, cost)
+        th, n = pc.solve(pc.theta_of(prob.coeffs_of(theta)))
         nfev_total += n
-        prob, theta = pr, th
+        prob, theta = pc, th
     coeffs = prob.coeffs_of(theta) if len(theta) else dict(prob.base)
     # longitudinal: quadratic E must stay <= 1 over the load range, else refit with b6 = 0
     if spec.name == "longitudinal" and "b6" in want:
@@ -945,27 +923,15 @@ def _part_warnings(d: PartData, coeffs: Mapping[str, float], floor: float) -> li
 def _uncertainty(prob: _Problem, theta) -> tuple[dict[str, float], pd.DataFrame]:
     """Standard errors and correlations of the varied coefficients (Gauss-Newton, at the solution).
 
-    cov(theta) = s^2 (J^T J)^-1 with s^2 = sum r^2 / (N - p) of the weighted mu
-    residuals; mapped to the coefficients through the affine parametrisation.
-    For the l1 cost this is the least-squares approximation at the l1 solution.
+    cov(theta) = s^2 (J^T J)^+ with s^2 = sum r^2 / (N - p) of the mu residuals
+    weighted sqrt(1/n_s) (:func:`tyrefit.fitting.core.covariance`), mapped to the
+    coefficients through the affine parametrisation.  For the l1 and robust
+    costs this is the least-squares approximation at their solution.
     """
     names = prob.vary
     if not len(theta):
         return {}, pd.DataFrame()
-    J = prob.jac(theta)
-    r = prob.residual(theta)
-    if prob.cost == "l1":  # residuals were scaled by 1/n per sweep; use the l2 weighting for s^2
-        r = r * np.sqrt(prob.d.n_per_run)
-        J = J * np.sqrt(prob.d.n_per_run)[:, None]
-    elif prob.scale is not None:  # robust costs: residuals were scaled by 1/s; use the l2 weighting
-        f = prob.scale / np.sqrt(prob.d.n_per_run)
-        r, J = r * f, J * f[:, None]
-    dof = max(1, len(r) - len(theta))
-    s2 = float(np.sum(r * r)) / dof
-    try:
-        cov_t = np.linalg.pinv(J.T @ J) * s2
-    except np.linalg.LinAlgError:  # pragma: no cover
-        return {k: float("nan") for k in names}, pd.DataFrame()
+    cov_t, _ = covariance(prob.jac(theta), prob.residual(theta), prob.weights)
     idx = [prob.names.index(k) for k in names]
     Tm = prob.T[idx, :]
     cov = Tm @ cov_t @ Tm.T
