@@ -339,20 +339,33 @@ def test_pac89_forces_at_a_subnormal_load_are_zero_not_nan():
     assert f["fy"][0] == 0.0 and f["fx"][0] == 0.0  # (at 1 mN the model's constant offsets a12/a13 remain)
 
 
-def test_mf52_file_with_mf61_only_coefficients_says_they_are_not_used(tmp_path):
-    """teasit's 'v52' FSAE export (FITTYP = 6) carries PPX1..PPY5, PKY5, PEY5: MF 5.2 does not use them, and
-    MFeval's FITTYP 6 path does (19 % of peak Fx apart at INFLPRES 80 kPa vs NOMPRES 98 kPa): say so."""
-    from tyrefit.tyres.mf import _MF61_ONLY
+def test_mf52_file_with_mf61_only_coefficients_applied_as_mfeval(tmp_path):
+    """teasit's 'v52' FSAE export (FITTYP = 6) carries PPX1..PPY5, PKY5, PEY5.  MFeval's FITTYP 6 path applies
+    them (19 % of peak Fx at that file's INFLPRES 80 kPa vs NOMPRES 98 kPa); tyrefit follows MFeval (checked
+    against MFeval's solver in test_mf52_61keys.py).  Each key MFeval applies changes the forces here; each it
+    does not read (the 5.2 camber stiffness, the 5.2 My) changes nothing; the warnings say which is which."""
+    from tyrefit.models.mf61 import APPLIED_61_IN_52, UNUSED_61_IN_52
 
     t = read_tyre(GENERIC)
-    assert not any("MF 6.1-only" in w for w in t.warnings())
-    for k in _MF61_ONLY:  # each listed key really is unused by the 5.2 equations
+    assert not any("6.1-only" in w for w in t.warnings())
+    t.params["NOMPRES"] = 250000.0
+    pt = dict(slip_angle=0.05, slip_ratio=0.05, camber=0.03, pressure=200000.0)
+    g = t.forces(30000.0, **pt)
+    # (QSX4-QSX11 act in pairs, checked below; PPMX1 through QSX2, which this file has as 0)
+    pairs = tuple(f"QSX{i}" for i in range(4, 12))
+    alone = [k for k in APPLIED_61_IN_52 if k not in pairs + ("PPMX1",)]
+    for k in alone + list(UNUSED_61_IN_52):
         t2 = read_tyre(GENERIC)
-        t2.params[k] = t2.params.get(k, 0.0) + 0.37
-        f, g = t2.forces(30000.0, 0.05, 0.05, 0.03), t.forces(30000.0, 0.05, 0.05, 0.03)
-        assert all(f[c] == g[c] for c in f), k
-    t.params.update(PPX1=-4.4, PKY5=83.0)
-    assert any("MF 6.1-only" in w and "PPX1, PKY5" in w for w in t.warnings())
+        t2.params.update(NOMPRES=250000.0, **{k: t2.params.get(k, 0.0) + 0.37})
+        f = t2.forces(30000.0, **pt)
+        changed = any(abs(f[c] - g[c]) > 1e-9 * max(1.0, abs(g[c])) for c in f)
+        assert changed == (k in APPLIED_61_IN_52), k
+    t2 = read_tyre(GENERIC)
+    t2.params.update(QSX4=0.1, QSX7=0.5, QSX10=0.05, QSX11=2.0)
+    assert abs(t2.forces(30000.0, **pt)["mx"] - t.forces(30000.0, **pt)["mx"]) > 1.0
+    t.params.update(PPX1=-4.4, PKY5=83.0, PKY6=-1.0)
+    w = " ".join(t.warnings())
+    assert "applied as MFeval" in w and "PPX1, PKY5" in w and "not used" in w and "PKY6" in w
 
 
 def test_goodyear_mf05_matches_mfeval():

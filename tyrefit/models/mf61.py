@@ -77,7 +77,8 @@ As 6.1 (same low-speed model, same TNO choices) except, following the MF-Tyre
 on its 5.2 example and on Chrono's PAC2002 file agrees to 1e-14 of peak):
 
 * no pressure terms (dpi = 0; PPX*, PPY*, PPZ*, PPMX1, QSY5-QSY8 unused) and
-  no QSX4-QSX14, PKY5-PKY7, PEY5, RBX3, RBY4, QDZ10-11 (absent from 5.2 files);
+  no QSX4-QSX14, PKY5-PKY7, PEY5, RBX3, RBY4, QDZ10-11 (absent from 5.2 files)
+  -- unless the file carries them (see "MF 5.2 files with MF 6.1 keys" below);
 * camber enters as gamma * LGAX / LGAY / LGAZ (the 5.2 camber scaling factors,
   default 1) instead of through LKYC / LKZC;
 * Fy0: K_y_alpha = PKY1 Fz0' sin(PKY4 arctan(Fz/(PKY2 Fz0'))) (1 - PKY3 |gamma_y|) LKY
@@ -88,6 +89,29 @@ on its 5.2 example and on Chrono's PAC2002 file agrees to 1e-14 of peak):
   Mz' = -t (Fy - SVy_kappa) in combined slip, SVy_kappa with the zero-camber mu_y;
 * Mx = R0 Fz (QSX1 LVMX - QSX2 gamma + QSX3 Fy/Fz0) LMX;
 * My = -R0 Fz (QSY1 + QSY2 Fx/Fz0 + QSY3 |Vcx/V0| + QSY4 (Vcx/V0)^4) LMY.
+
+MF 5.2 files with MF 6.1 keys
+-----------------------------
+Some MF 5.2 files (FITTYP 6) carry MF 6.1-only coefficients -- teasit's
+magic-formula-tyre-library FSAE example ``fsaettc_obfuscated_v52.tir`` has
+PPX1-PPX4, PPY1-PPY5, PKY5-PKY7, PEY5 with INFLPRES 80 kPa != NOMPRES 98 kPa.
+The MF-Tyre 5.2 equations have no such terms, so a strict 5.2 evaluator would
+drop them; MFeval 4.0, the open reference most users check against, applies
+them: its solver (``+mfeval/Solver.m``) is the 6.1 one for every FITTYP, with
+four FITTYP == 6 switches only -- K_y_gamma0 and SHy through PHY3
+(``calculateFy0``), the 5.2 My (``calculateMy``) and Mz' = -t (Fy - SVy_kappa)
+(``calculateMz``).  tyrefit follows MFeval, because a non-zero 6.1 key in a file
+is the fitting tool's statement that the term belongs to the tyre (the 19 % of
+peak Fx the pressure terms make at that file's INFLPRES would otherwise be
+lost silently), and because a file without them is evaluated exactly as
+before (every added term is zero).  So, in an MF 5.2 file, when present and
+non-zero: the pressure terms PPX1-PPX4, PPY1-PPY4, PPZ1-PPZ2, PPMX1 (dpi from
+NOMPRES, when the file gives NOMPRES > 0), PKY5 and PPY2 in K_y_alpha, PEY5
+in Ey, QDZ10-QDZ11 in Dr, RBX3, RBY4, and QSX4-QSX14 in Mx take their MF 6.1
+places; PKY6, PKY7, PPY5 and QSY5-QSY8 stay unused (MFeval's FITTYP 6 camber
+stiffness and My).  :meth:`tyrefit.tyres.mf.MFTyre.warnings` says which keys
+were applied and which were not.  Tested against MFeval's solver in
+``tests/test_mf52_61keys.py``.
 
 Project Chrono's ``ChPac02Tire`` evaluates PAC2002 files differently in places
 (it scales K_y by LMUY, adds 0.1 N to the B denominators, clamps B*x to
@@ -397,7 +421,10 @@ def _basic(c, v52, fz, kappa, alpha, gamma, pressure, speed) -> _Basic:
     b.fz, b.kappa, b.alpha, b.gamma, b.vcx = fz, kappa, alpha, gamma, vcx
     b.fz0p = c["FNOMIN"] * c["LFZO"]                                   # (4.E1)
     b.dfz = (fz - b.fz0p) / b.fz0p                                     # (4.E2a)
-    b.dpi = 0.0 if v52 else (press - c["NOMPRES"]) / c["NOMPRES"]      # (4.E2b); 5.2: no pressure
+    if v52:  # 5.2: no pressure, unless the file carries MF 6.1 pressure terms (module notes; MFeval)
+        b.dpi = (press - c["NOMPRES"]) / c["NOMPRES"] if _pressure_52(c) else 0.0
+    else:
+        b.dpi = (press - c["NOMPRES"]) / c["NOMPRES"]                  # (4.E2b)
     # alpha* = alpha and gamma* = gamma: TNO's MF-Tyre does not use the tan/sin forms of
     # (4.E3), (4.E4) (MFeval 4.0 documentation, "Changes in the equations", 'alpha star')
     b.astar = alpha
@@ -420,6 +447,25 @@ def _basic(c, v52, fz, kappa, alpha, gamma, pressure, speed) -> _Basic:
     return b
 
 
+#: MF 6.1-only keys an MF 5.2 file may carry that MFeval's FITTYP 6 path applies (module notes)
+APPLIED_61_IN_52 = ("PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPZ1", "PPZ2", "PPMX1", "PKY5",
+                    "PEY5", "QDZ10", "QDZ11", "RBX3", "RBY4", "QSX4", "QSX5", "QSX6", "QSX7", "QSX8", "QSX9", "QSX10",
+                    "QSX11", "QSX12", "QSX13", "QSX14")
+#: ... and those it does not (the 5.2 camber stiffness through PHY3, the 5.2 My)
+UNUSED_61_IN_52 = ("PKY6", "PKY7", "PPY5", "QSY5", "QSY6", "QSY7", "QSY8")
+_PRESSURE_61 = ("PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPZ1", "PPZ2", "PPMX1")
+_MX_61 = ("QSX4", "QSX10", "QSX12", "QSX13", "QSX14", "PPMX1")
+
+
+def _nonzero(c, keys) -> bool:
+    return any(np.any(np.asarray(c.get(k, 0.0)) != 0) for k in keys)
+
+
+def _pressure_52(c) -> bool:
+    """An MF 5.2 parameter set with MF 6.1 pressure terms and a NOMPRES to refer them to."""
+    return _nonzero(c, _PRESSURE_61) and bool(np.all(np.asarray(c.get("NOMPRES", 0.0)) > 0))
+
+
 def _fx0_parts(c, b: _Basic, e_sign=None):
     """Fx0 and its factors (4.E9)-(4.E18); ``e_sign`` = +-1 gives Ex for that slip sign, unlimited."""
     fz, dfz, dpi = b.fz, b.dfz, b.dpi
@@ -427,6 +473,9 @@ def _fx0_parts(c, b: _Basic, e_sign=None):
     if b.v52:
         mux = (c["PDX1"] + c["PDX2"] * dfz) * (1.0 - c["PDX3"] * b.gx ** 2) * b.lmux_s
         kxk = fz * (c["PKX1"] + c["PKX2"] * dfz) * np.exp(c["PKX3"] * dfz) * c["LKX"]
+        if np.any(dpi != 0):  # MF 6.1 pressure terms carried by a 5.2 file (MFeval), (4.E13), (4.E15)
+            mux = mux * (1.0 + c["PPX3"] * dpi + c["PPX4"] * dpi ** 2)
+            kxk = kxk * (1.0 + c["PPX1"] * dpi + c["PPX2"] * dpi ** 2)
     else:
         mux = ((c["PDX1"] + c["PDX2"] * dfz) * (1.0 + c["PPX3"] * dpi + c["PPX4"] * dpi ** 2)
                * (1.0 - c["PDX3"] * b.gamma ** 2) * b.lmux_s)                         # (4.E13)
@@ -454,14 +503,21 @@ def _fy0_parts(c, b: _Basic, zero_camber: bool = False, e_sign=None):
         gy = 0.0 * b.gy if zero_camber else b.gy
         muy = (c["PDY1"] + c["PDY2"] * dfz) * (1.0 - c["PDY3"] * gy ** 2) * b.lmuy_s
         # MF 5.2 manual: PKY4 = 2 unless the file gives it (see _prepare)
-        kya = (c["PKY1"] * fz0p * np.sin(c["PKY4"] * np.arctan(fz / (c["PKY2"] * fz0p)))
-               * (1.0 - c["PKY3"] * np.abs(gy)) * c["LKY"])
+        if np.any(dpi != 0) or _nonzero(c, ("PKY5",)):  # 6.1 terms carried by a 5.2 file (MFeval): (4.E23), (4.E25)
+            muy = muy * (1.0 + c["PPY3"] * dpi + c["PPY4"] * dpi ** 2)
+            kya = (c["PKY1"] * fz0p * (1.0 + c["PPY1"] * dpi)
+                   * np.sin(c["PKY4"] * np.arctan(fz / ((c["PKY2"] + c["PKY5"] * gy ** 2) * (1.0 + c["PPY2"] * dpi)
+                                                        * fz0p)))
+                   * (1.0 - c["PKY3"] * np.abs(gy)) * c["LKY"])
+        else:
+            kya = (c["PKY1"] * fz0p * np.sin(c["PKY4"] * np.arctan(fz / (c["PKY2"] * fz0p)))
+                   * (1.0 - c["PKY3"] * np.abs(gy)) * c["LKY"])
         shy = (c["PHY1"] + c["PHY2"] * dfz) * c["LHY"] + c["PHY3"] * gy
         svy = fz * ((c["PVY1"] + c["PVY2"] * dfz) * c["LVY"] + (c["PVY3"] + c["PVY4"] * dfz) * gy) * b.lmuy_p
         shy, svy = shy * b.red, svy * b.red
         ay = b.astar + shy
         sg = np.sign(ay) if e_sign is None else e_sign
-        ey = (c["PEY1"] + c["PEY2"] * dfz) * (1.0 - (c["PEY3"] + c["PEY4"] * gy) * sg) * c["LEY"]
+        ey = (c["PEY1"] + c["PEY2"] * dfz) * (1.0 + c["PEY5"] * gy ** 2 - (c["PEY3"] + c["PEY4"] * gy) * sg) * c["LEY"]
     else:
         gs = 0.0 * b.gstar if zero_camber else b.gstar
         muy = ((c["PDY1"] + c["PDY2"] * dfz) * (1.0 + c["PPY3"] * dpi + c["PPY4"] * dpi ** 2)
@@ -492,7 +548,7 @@ def _gyk(c, b: _Basic, muy):
     """Gy_kappa and SVy_kappa (4.E58)-(4.E67)."""
     dfz, kappa = b.dfz, b.kappa
     if b.v52:
-        byk = c["RBY1"] * np.cos(np.arctan(c["RBY2"] * (b.alpha - c["RBY3"]))) * c["LYKA"]
+        byk = (c["RBY1"] + c["RBY4"] * b.gamma ** 2) * np.cos(np.arctan(c["RBY2"] * (b.alpha - c["RBY3"]))) * c["LYKA"]
         g = b.gamma
         a = b.alpha
     else:
@@ -514,7 +570,7 @@ def _gyk(c, b: _Basic, muy):
 def _gxa(c, b: _Basic):
     """Gx_alpha (4.E51)-(4.E57)."""
     if b.v52:
-        bxa = c["RBX1"] * np.cos(np.arctan(c["RBX2"] * b.kappa)) * c["LXAL"]
+        bxa = (c["RBX1"] + c["RBX3"] * b.gamma ** 2) * np.cos(np.arctan(c["RBX2"] * b.kappa)) * c["LXAL"]
         a = b.alpha
     else:
         bxa = (c["RBX1"] + c["RBX3"] * b.gstar ** 2) * np.cos(np.arctan(c["RBX2"] * b.kappa)) * c["LXAL"]  # (4.E54)
@@ -543,8 +599,15 @@ def _mz_parts(c, b: _Basic, fy_parts):
         dt = (fz * (c["QDZ1"] + c["QDZ2"] * dfz) * (1.0 + c["QDZ3"] * gz + c["QDZ4"] * gz ** 2)
               * (r0 / fz0p) * c["LTR"])
         et_g = c["QEZ5"] * gz
-        dr = (fz * r0 * ((c["QDZ6"] + c["QDZ7"] * dfz) * c["LRES"] + (c["QDZ8"] + c["QDZ9"] * dfz) * gz)
-              * b.lmuy_s * np.cos(b.alpha))
+        if np.any(dpi != 0) or _nonzero(c, ("QDZ10", "QDZ11")):  # 6.1 terms of a 5.2 file (MFeval) (4.E42), (4.E47)
+            dt = dt * (1.0 - c["PPZ1"] * dpi)
+            dr = (fz * r0 * ((c["QDZ6"] + c["QDZ7"] * dfz) * c["LRES"]
+                             + ((c["QDZ8"] + c["QDZ9"] * dfz) * (1.0 + c["PPZ2"] * dpi)
+                                + (c["QDZ10"] + c["QDZ11"] * dfz) * np.abs(gz)) * gz)
+                  * b.lmuy_s * np.cos(b.alpha))
+        else:
+            dr = (fz * r0 * ((c["QDZ6"] + c["QDZ7"] * dfz) * c["LRES"] + (c["QDZ8"] + c["QDZ9"] * dfz) * gz)
+                  * b.lmuy_s * np.cos(b.alpha))
     else:
         g, gs = b.gamma, b.gstar
         sht = c["QHZ1"] + c["QHZ2"] * dfz + (c["QHZ3"] + c["QHZ4"] * dfz) * gs        # (4.E35)
@@ -585,7 +648,7 @@ def _mz(c, b: _Basic, mzp, fy_prime, kxk, fx, fy):
 def _mx(c, b: _Basic, fy):
     """Overturning moment: MF 6.1 manual form of (4.E69); MF 5.2 manual for 5.2."""
     r0, fz0, fz, g = c["UNLOADED_RADIUS"], c["FNOMIN"], b.fz, b.gamma
-    if b.v52:
+    if b.v52 and not (np.any(b.dpi != 0) or _nonzero(c, _MX_61)):  # else: 6.1 Mx, as MFeval for every FITTYP
         return r0 * fz * (c["QSX1"] * c["LVMX"] - c["QSX2"] * g + c["QSX3"] * fy / fz0) * c["LMX"]
     return (r0 * fz * c["LMX"]
             * (c["QSX1"] * c["LVMX"] - c["QSX2"] * g * (1.0 + c["PPMX1"] * b.dpi) + c["QSX3"] * fy / fz0

@@ -148,9 +148,10 @@ class MFTyre(Tyre):
         self._computed = frozenset(USE_MODE_OUTPUTS.get(digit, USE_MODE_OUTPUTS[4])) - self.not_fitted
         # USE_MODE 3 (uncombined), or no combined-slip data: each slip alone
         self.combined = digit != 3 and "combined" not in self.not_fitted
-        # MF 5.2 has no pressure terms; both respond to speed (LMUV, low-speed reductions, My)
+        # MF 5.2 has no pressure terms (unless the file carries MF 6.1 ones, applied as MFeval does:
+        # tyrefit.models.mf61 notes); both respond to speed (LMUV, low-speed reductions, My)
         self.inputs = ("fz", "slip_angle", "slip_ratio", "camber", "speed") + (
-            ("pressure",) if self.family == "MF61" else ())
+            ("pressure",) if self.family == "MF61" or self._pressure_52 else ())
 
     # -- the Tyre interface ---------------------------------------------------------
     def forces(self, fz, slip_angle=0.0, slip_ratio=0.0, camber=0.0, pressure=None, speed=None):
@@ -185,6 +186,11 @@ class MFTyre(Tyre):
         return {k: (np.where(on, np.broadcast_to(np.asarray(v, dtype=float), fz.shape), 0.0) if has.get(k, True)
                     else np.full(fz.shape, np.nan))  # a part the file does not model: NaN, as Pac89Tyre
                 for k, v in out.items() if k in ("fx", "fy", "mz", "mx", "my")}
+
+    @property
+    def _pressure_52(self) -> bool:
+        """An MF 5.2 file with MF 6.1 pressure terms and NOMPRES (evaluated with them, as MFeval)."""
+        return self.family == "MF52" and _mf61._pressure_52(self.params)
 
     @property
     def use_mode(self) -> int | None:
@@ -261,7 +267,7 @@ class MFTyre(Tyre):
         gam = np.asarray(camber, dtype=float)
         fz0 = g("FNOMIN", 1.0) * s("LFZO")  # (4.E1)
         dfz = (fz - fz0) / fz0  # (4.E2a)
-        if self.family == "MF61" and g("NOMPRES") > 0:
+        if (self.family == "MF61" or self._pressure_52) and g("NOMPRES") > 0:
             pr = self.params.get("INFLPRES", g("NOMPRES")) if pressure is None else pressure
             dpi = (np.asarray(pr, dtype=float) - g("NOMPRES")) / g("NOMPRES")  # (4.E2b)
         else:
@@ -279,7 +285,7 @@ class MFTyre(Tyre):
         out["muy"] = ((g("PDY1") + g("PDY2") * dfz) * (1 + g("PPY3") * dpi + g("PPY4") * dpi**2)
                       * (1 - g("PDY3") * gam**2) * s("LMUY"))  # (4.E23)
         ey0 = (g("PEY1") + g("PEY2") * dfz) * s("LEY")
-        ecam = (1 + g("PEY5") * gam**2) if mf61 else 1.0
+        ecam = 1 + g("PEY5") * gam**2  # PEY5 = 0 in a plain MF 5.2 file
         shift = g("PEY3") + g("PEY4") * gam
         out["Ey+"], out["Ey-"] = ey0 * (ecam - shift), ey0 * (ecam + shift)  # (4.E24)
         if mf61:
@@ -287,10 +293,12 @@ class MFTyre(Tyre):
             with np.errstate(divide="ignore", invalid="ignore"):
                 out["Kya"] = (g("PKY1") * fz0 * (1 + g("PPY1") * dpi) * (1 - g("PKY3") * np.abs(gam))
                               * np.sin(g("PKY4", 2.0) * np.arctan(fz / den)) * s("LKY"))  # (4.E25)
-        else:
+        else:  # MF 5.2 (with PKY5, PPY1, PPY2 when the file carries them, as MFeval)
             with np.errstate(divide="ignore", invalid="ignore"):
-                out["Kya"] = (g("PKY1") * fz0 * np.sin(2 * np.arctan(fz / (g("PKY2") * fz0)))
-                              * (1 - g("PKY3") * np.abs(gam)) * s("LKY"))  # MF 5.2
+                out["Kya"] = (g("PKY1") * fz0 * (1 + g("PPY1") * dpi)
+                              * np.sin(g("PKY4", 2.0) * np.arctan(fz / ((g("PKY2") + g("PKY5") * gam**2)
+                                                                       * (1 + g("PPY2") * dpi) * fz0)))
+                              * (1 - g("PKY3") * np.abs(gam)) * s("LKY"))
         out["Ct"] = g("QCZ1") + 0 * fz  # (4.E41)
         et = g("QEZ1") + g("QEZ2") * dfz + g("QEZ3") * dfz**2  # (4.E44), atan term bounded by +/-1
         bound = np.abs(g("QEZ4") + g("QEZ5") * gam)
@@ -339,12 +347,16 @@ class MFTyre(Tyre):
                 out.append(f"USE_MODE = {self.use_mode} < 0 asks Adams to mirror the tyre characteristics; tyrefit "
                            "evaluates the coefficients as written")
         if self.family == "MF52":
-            unused = [k for k in _MF61_ONLY if self.params.get(k, 0.0) != 0.0]
+            applied = [k for k in _mf61.APPLIED_61_IN_52 if self.params.get(k, 0.0) != 0.0]
+            if "NOMPRES" not in self.params or not self.params["NOMPRES"] > 0:
+                applied = [k for k in applied if not k.startswith("PP")]
+            unused = [k for k in _MF61_ONLY if self.params.get(k, 0.0) != 0.0 and k not in applied]
+            if applied:
+                out.append("MF 5.2 file with MF 6.1-only coefficients, applied as MFeval's FITTYP 6 path does (a "
+                           f"strict MF 5.2 evaluator drops them): {', '.join(applied)}")
             if unused:
-                out.append(f"MF 5.2 file with MF 6.1-only coefficients the 5.2 equations do not use: "
-                           f"{', '.join(unused[:12])}{' ...' if len(unused) > 12 else ''} (MFeval's FITTYP 6 "
-                           "path applies the pressure, PKY5 and PEY5 terms; tyrefit evaluates MF 5.2 as its manual "
-                           "defines it)")
+                out.append("MF 6.1-only coefficients not used in an MF 5.2 file (MFeval's FITTYP 6 path keeps the 5.2 "
+                           f"camber stiffness and My; pressure terms need NOMPRES): {', '.join(unused)}")
         return out
 
     def _factor_problems(self, n: int, hard: bool) -> list[str]:
