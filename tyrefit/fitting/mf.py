@@ -14,9 +14,27 @@ Mz0       slip-angle sweeps at slip ratio ~ 0     QBZ*, QCZ1, QDZ*, QEZ*, QHZ*, 
 Fx        combined sweeps (kappa at alpha != 0)   RBX*, RCX1, REX*, RHX1
 Fy        combined sweeps                         RBY*, RCY1, REY*, RHY*, RVY*
 Mz        combined sweeps                         SSZ*
-Mx        every sweep with mx                     QSX1-QSX3, PPMX1
+joint     every sweep: Fx, Fy and Mz together      every coefficient of the six stages above
+Mx        every sweep with mx                     QSX1-QSX14, PPMX1
 My        slip-ratio sweeps with my               QSY1-QSY8
 ========  =====================================  ====================================
+
+The *joint* polish (:func:`_joint_polish`) is the last step of the force
+stages: the stages hold the earlier stages' coefficients, so the noise of the
+pure-slip estimates propagates into the later channels (combined Mz through
+alpha_eq, 4.E77-4.E78); every fitted Fx/Fy/Mz coefficient then moves at once,
+from the staged values, for a few iterations.
+
+Mx is linear in QSX1-QSX4, QSX10, QSX12-QSX14: its start is a variable
+projection (:class:`_Projection`, Golub & Pereyra 1973): a coarse grid over
+the nonlinear QSX5-QSX9, QSX11 (and PPMX1), the linear ones solved exactly at
+every grid point, the best refined in the nonlinear ones only.  From generic
+starts the joint problem stopped in a local minimum (5.9 % of peak Mx on
+generated data, 2.7 x the generating set's cost), because the near-linear sine
+term trades off against QSX2 and QSX3.
+
+A channel with no signal above its noise floor (:func:`channel_signal`) is
+not fitted and says so.
 
 The multi-start runs on up to 60 points per sweep (every k-th point) and the
 winner is polished on up to 250 per sweep, so a 100 Hz record costs no more
@@ -1220,6 +1238,106 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
                     time.perf_counter() - t0, log, est, stderr, cons, len(pts), len(sw))
 
 
+#: stages whose coefficients the joint polish varies, and the channels it fits
+_JOINT_STAGES = ("Fx0", "Fy0", "Mz0", "Fx", "Fy", "Mz")
+_JOINT_CHANNELS = (("fx", ("longitudinal", "combined")), ("fy", ("lateral", "combined", "longitudinal")),
+                   ("mz", ("lateral", "longitudinal", "combined")))
+_JOINT_NFEV = 8
+
+
+def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit], *, nominal: Mapping[str, float],
+                  version: str, notes: list[str]) -> StageFit | None:
+    """A last least-squares polish of every force and aligning coefficient the stages fitted, on all sweeps.
+
+    The stages fit each channel on its own sweeps with the earlier stages held, so the pure-slip
+    estimates' noise propagates: combined Mz goes through alpha_eq = sqrt(alpha^2 + (K_x/K_y)^2 kappa^2)
+    (Pacejka 2012, 4.E77-4.E78), which is steep near kappa = 0, and a 1-2 % error of K_x/K_y there is
+    ~1 % of peak Mz.  The combined and Mz sweeps also carry information on the pure-slip coefficients;
+    this polish lets every fitted Fx/Fy/Mz coefficient move at once (from the staged values, so no
+    multi-start), on the residuals of Fx (drive/brake and combined), Fy (every sweep: as the Fy and Fy0 stages) and Mz
+    (all), each weighted as in its stage, with the constraint penalties of the Fx0, Fy0, Fx and Fy
+    stages.  Measured on generated data (1 % noise, 10 seeds): the worst combined-Mz error falls from
+    1.095 to about 0.67 % of peak, Fx and Fy by a third.
+    """
+    t0 = time.perf_counter()
+    vary = list(dict.fromkeys(k for st in _JOINT_STAGES if st in fits for k in fits[st].varied))
+    if len(vary) < 2 or not any(st in fits and fits[st].varied for st in ("Mz0", "Fx", "Fy", "Mz")):
+        return None
+    mf = _mf61()
+    d = _thin(data.df, _START_POINTS)
+    kind = d["kind"].to_numpy()
+    kap = np.where(kind == "lateral", 0.0, d["slip_ratio"].to_numpy(float))
+    alp = np.where(kind == "longitudinal", 0.0, d["slip_angle"].to_numpy(float))
+    pr, sp = d["pressure"].to_numpy(float), d["speed"].to_numpy(float)
+    pr = np.where(np.isfinite(pr), pr, nominal.get("NOMPRES", np.nan)) if np.isfinite(pr).any() else None
+    sp = np.where(np.isfinite(sp), sp, nominal.get("LONGVL", np.nan)) if np.isfinite(sp).any() else None
+    fz, gam = d["fz"].to_numpy(float), d["camber"].to_numpy(float)
+    r0 = nominal.get("UNLOADED_RADIUS", 0.3)
+    blocks = []
+    for c, kinds in _JOINT_CHANNELS:
+        if c not in d or not any(st in fits and fits[st].channel == c and fits[st].varied for st in _JOINT_STAGES):
+            continue
+        y = d[c].to_numpy(float)
+        m = np.isin(kind, kinds) & np.isfinite(y)
+        if m.sum() < 10:
+            continue
+        runs = d["run"].to_numpy()[m]
+        _, inv, cnt = np.unique(runs, return_inverse=True, return_counts=True)
+        w = 1.0 / np.sqrt(cnt[inv]) / (fz[m] * (r0 if c == "mz" else 1.0))
+        blocks.append((c, m, y[m], w))
+    pens = [_Problem(_STAGE[st], data.subset(_STAGE[st].sweeps, _STAGE[st].channel), p, [], nominal, version, "l2",
+                     1.0, p.get("PKY1", -1.0)) for st in ("Fx0", "Fy0", "Fx", "Fy") if st in fits and fits[st].varied]
+    lb = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[0] for k in vary], float)
+    ub = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[1] for k in vary], float)
+    if "PKY1" in vary:
+        j = vary.index("PKY1")
+        lb[j], ub[j] = ((lb[j], -1e-3) if p["PKY1"] < 0 else (1e-3, ub[j]))
+    kw = {"version": version}
+    nfev = [0]
+
+    def residual(th):
+        q = dict(p, **dict(zip(vary, th.tolist())))
+        nfev[0] += 1
+        out = mf.forces(q, fz, slip_ratio=kap, slip_angle=alp, camber=gam, pressure=pr, speed=sp, **kw)
+        parts = [w * (np.asarray(out[c], float)[m] - y) for c, m, y, w in blocks]
+        parts += [pb.penalties(q) for pb in pens]
+        r = np.concatenate(parts)
+        return np.where(np.isfinite(r), r, 1e3)
+
+    def jac(th):
+        rr = residual(th)
+        J = np.empty((rr.size, th.size))
+        eps = math.sqrt(np.finfo(float).eps)
+        for j in range(th.size):
+            h = eps * max(abs(th[j]), _typical_step(vary[j]))
+            t = th.copy()
+            t[j] = t[j] + h if t[j] + h <= ub[j] else t[j] - h
+            J[:, j] = (residual(t) - rr) / (t[j] - th[j])
+        return J
+
+    th0 = _inside(np.array([p[k] for k in vary]), lb, ub)
+    r_start = residual(th0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        sol = least_squares(residual, th0, jac=jac, bounds=(lb, ub), method="trf", x_scale="jac",
+                            ftol=1e-10, xtol=1e-10, gtol=1e-10, max_nfev=_JOINT_NFEV)
+    obj0, obj = float(r_start @ r_start), float(2.0 * sol.cost)
+    if not obj < obj0:
+        return None
+    q = dict(zip(vary, sol.x.tolist()))
+    p.update(q)
+    cons = [c for pb in pens for c in _check_constraints(pb.stage, p, pb.grid)]
+    for c in cons:
+        if not c["holds"]:
+            notes.append(f"joint polish: constraint {c['constraint']} broken on the grid of the fitted range "
+                         f"(worst {c['worst']:.3g})")
+    facts = {"points": int(sum(m.sum() for _, m, _, _ in blocks)), "objective_before": obj0,
+             "channels": [c for c, *_ in blocks]}
+    return StageFit("joint", "+".join(c for c, *_ in blocks), vary, {}, {}, facts, obj, nfev[0],
+                    time.perf_counter() - t0, [], pd.DataFrame(), {}, cons, facts["points"],
+                    int(d["run"].nunique()))
+
+
 #: points per sweep (every k-th) for the multi-start and for the polish; a 100 Hz rig record has ~1000 per
 #: sweep, which add noise averaging but no information on the curve; the statistics use every point
 _START_POINTS = 60
@@ -1343,6 +1461,11 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
                 only = [k for k in (only if only is not None else st.names) if k in vary_set]
             if fixed_names:
                 only = [k for k in (only if only is not None else st.names) if k not in fixed_names]
+            if st.name == "Mx" and cost == "l2" and (stages is None or "joint" in stages):
+                # before the moments that use the final Fy: every force/Mz coefficient polished together
+                jf = _joint_polish(data, p, fits, nominal=nominal, version=version, notes=notes)
+                if jf is not None:
+                    fits["joint"] = jf
             sf = _fit_stage(st, data, p, vary_only=only, nominal=nominal, version=version, cost=cost, notes=notes,
                             multistart=multistart)
             if sf is None:
