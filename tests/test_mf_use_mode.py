@@ -205,3 +205,47 @@ def test_fit_json_names_exactly_the_flags_chrono_still_needs(tmp_path, capsys):
     assert len(err) == 1 and "--size" not in err[0] and "--rated-load" in err[0] and "Mass" not in err[0]
     assert "Vertical Stiffness" in err[0]
     assert not out.exists() and not js.exists()
+
+
+# ---------------------------------------------------------------- sim braking with one tyre on both axles (qa bug 5)
+def test_sim_braking_takes_the_same_tyre_on_both_axles(tmp_path, capsys):
+    """The most ordinary car has one tyre all round: its stopping distances, not a refusal.  The base and the
+    low-wear vehicle then carry the same tyres (k = 1) and stop alike; a front tyre softer than the rear is
+    still refused (seed 000's comparison is hard front / soft rear)."""
+    import json
+
+    sim = Path(__file__).parents[1] / "data" / "sim"
+    soft, hard = str(sim / "soft_rear.tir"), str(sim / "hard_front.tir")
+    js = tmp_path / "b.json"
+    assert main(["sim", "braking", "--front", soft, "--rear", soft, "--json", str(js)]) == 0
+    rows = json.loads(js.read_text())["rows"]
+    dist = {(r["condition"], r["initial_speed_kmh"], r["vehicle"]): r["stopping_distance_m"] for r in rows}
+    assert len(dist) == 12 and all(d > 0 for d in dist.values())
+    for (c, v, veh), d in dist.items():
+        assert d == pytest.approx(dist[(c, v, "base")], rel=1e-9)
+    # physics: the stop from 120 km/h at eta = 1 takes at least v^2 / (2 mu_max g) with mu_max <= 1.3
+    assert dist[(1.0, 120.0, "base")] > (120 / 3.6) ** 2 / (2 * 1.3 * 9.81)
+    capsys.readouterr()
+    assert main(["sim", "braking", "--front", soft, "--rear", hard, "--json", str(tmp_path / "c.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "must be the harder one" in err[0]
+
+
+# ---------------------------------------------------------------- a closed stdout pipe (qa bug 8)
+@pytest.mark.parametrize("model", ["pac89", "mf61"])
+def test_closed_stdout_pipe_still_writes_the_tyre(tmp_path, model):
+    """``tyrefit fit ... | head -1``: the reader goes away before tyrefit has printed; the tyre file must still
+    be committed, with exit 0 and no traceback (it was lost: the BrokenPipeError aborted the staged run)."""
+    import subprocess
+    import sys
+
+    csv = _lateral_csv(tmp_path / "lat.csv")
+    out = tmp_path / "t.tir"
+    code = "import sys; from tyrefit.cli import main; sys.exit(main(sys.argv[1:]))"
+    proc = subprocess.Popen([sys.executable, "-c", code, "fit", str(csv), "--model", model, "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # the reader is gone before the first line
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=300) == 0, err
+    assert "Traceback" not in err and "Broken pipe" not in err, err
+    assert out.exists() and read_tyre(out).has_lateral

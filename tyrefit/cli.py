@@ -328,10 +328,65 @@ class _Abort(Exception):
         self.code = code
 
 
+class _PipeSafeStdout:
+    """``sys.stdout`` that survives a reader closing the pipe (``tyrefit fit ... | head -1``).
+
+    A command prints while its outputs are still staged (:func:`tyrefit.io.outputs.output_run`
+    commits them when the command returns), so a ``BrokenPipeError`` from a print used to abort
+    the run and leave nothing on disk.  Here the first broken write points file descriptor 1 at
+    ``os.devnull`` (the recipe of Python's ``signal`` documentation, "Note on SIGPIPE") and
+    drops the rest of the text: the command finishes, its files are committed, the exit code
+    is the command's.
+    """
+
+    def __init__(self, stream):
+        self._stream = stream
+        self.broken = False
+
+    def write(self, text):
+        if not self.broken:
+            try:
+                return self._stream.write(text)
+            except BrokenPipeError:
+                self._break()
+        return len(text)
+
+    def flush(self):
+        if not self.broken:
+            try:
+                self._stream.flush()
+            except BrokenPipeError:
+                self._break()
+
+    def _break(self) -> None:
+        self.broken = True
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, self._stream.fileno())
+            os.close(devnull)
+        except (OSError, ValueError, AttributeError):  # no real file descriptor (a test's capture)
+            pass
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    outer = sys.stdout
+    if not isinstance(outer, _PipeSafeStdout):
+        sys.stdout = _PipeSafeStdout(outer)
+    try:
+        return _main(args)
+    finally:
+        if sys.stdout is not outer:
+            sys.stdout.flush()
+            sys.stdout = outer
+
+
+def _main(args: argparse.Namespace) -> int:
     debug = getattr(args, "debug", False)
     try:
         return _run(args)

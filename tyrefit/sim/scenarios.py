@@ -138,9 +138,11 @@ class SimSetup:
             self.k = float(emission_ratio(self.hard_front.mu_peak, self.soft_front.mu_peak, self.traction_b))
         if not 0 < self.k:
             raise DataError(f"emission ratio k must be positive, got {self.k!r}")
-        if self.mu_ratio >= 1.0:
-            raise DataError(f"the front tyre ({self.front.name!r}) must be the harder one (lower peak friction): "
-                            f"its peak mu is {self.mu_ratio:.3f} x the rear tyre's at the front axle load")
+        # the same tyre on both axles (mu ratio 1, k = 1) is allowed: the low-wear vehicle is then the base
+        # vehicle with the wear-aware allocator, and the stopping distances are those of that one tyre
+        if self.mu_ratio > 1.0 + 1e-9:
+            raise DataError(f"the front tyre ({self.front.name!r}) must be the harder one (lower peak friction) or "
+                            f"the same: its peak mu is {self.mu_ratio:.3f} x the rear tyre's at the front axle load")
 
     def step(self, scenario: str) -> float:
         """Time step [s] of a scenario."""
