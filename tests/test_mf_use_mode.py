@@ -249,3 +249,19 @@ def test_closed_stdout_pipe_still_writes_the_tyre(tmp_path, model):
     assert proc.wait(timeout=300) == 0, err
     assert "Traceback" not in err and "Broken pipe" not in err, err
     assert out.exists() and read_tyre(out).has_lateral
+
+
+def test_batch_mf_fit_says_where_design_values_come_from(tmp_path):
+    """batch fit --model mf61 writes the same origins as fit: R0 and c_z from a loaded-radius channel, the rest
+    declared PLACEHOLDER (the batch has no --size)."""
+    src = tmp_path / "data"
+    src.mkdir()
+    _lateral_csv(src / "a.csv", loaded_radius=True)
+    out = tmp_path / "out"
+    assert main(["batch", "fit", str(src), "--out", str(out), "--model", "mf61", "--workers", "1"]) == 0
+    tyre = read_tyre(out / "a.tir")
+    head = " ".join(tyre.header)
+    truth = read_tyre(MFEVAL61).params
+    assert tyre.params["UNLOADED_RADIUS"] == pytest.approx(truth["UNLOADED_RADIUS"], abs=5e-4)
+    assert "FROM THE DATA" in head and re.search(r"PLACEHOLDER \[DIMENSION\][^$]*\bWIDTH 0\.205", head)
+    assert not tyre.has_longitudinal

@@ -67,6 +67,8 @@ def fit_mf_files(args, datas):
     size = _size_and_load(args)
     if getattr(args, "rated_load", None) is not None:
         info["fnomin"] = float(args.rated_load)
+    from ..tyres.size import loaded_radius_law
+
     measured = loaded_radius_law(sets)
     if measured:
         info["unloaded_radius"] = measured["UNLOADED_RADIUS"]
@@ -89,115 +91,14 @@ def fit_mf_files(args, datas):
     return result, start
 
 
-#: the sections whose values a force fit does not give (their keys in :data:`tyrefit.models.mf61.COEFFICIENTS`)
-DESIGN_SECTIONS = ("DIMENSION", "OPERATING_CONDITIONS", "INERTIA", "VERTICAL", "STRUCTURAL", "CONTACT_PATCH")
-
-
-def loaded_radius_law(datasets) -> dict[str, float]:
-    """UNLOADED_RADIUS [m] and VERTICAL_STIFFNESS [N/m] from a loaded-radius channel (empty dict if none).
-
-    Least squares R_l = R0 - Fz / c_z over the samples with Fz > 0 and a finite
-    loaded radius (MF 6.1's vertical model with Q_FZ2 = 0: Fz = c_z (R0 - R_l),
-    Pacejka (2012) (A3.4)).  Used only when the line is credible: at least 50
-    samples, loads spanning a factor of 1.5, c_z > 0, and 0.1 m < R0 < 2 m with
-    R0 above every loaded radius seen.
-    """
-    import numpy as np
-
-    fz, rl = [], []
-    for ds in datasets:
-        df = ds.df
-        if "loaded_radius" not in df.columns or "fz" not in df.columns:
-            continue
-        f, r = df["fz"].to_numpy(float), df["loaded_radius"].to_numpy(float)
-        ok = np.isfinite(f) & np.isfinite(r) & (f > 0) & (r > 0)
-        fz.append(f[ok])
-        rl.append(r[ok])
-    if not fz:
-        return {}
-    fz, rl = np.concatenate(fz), np.concatenate(rl)
-    if fz.size < 50 or not np.percentile(fz, 95) > 1.5 * np.percentile(fz, 5):
-        return {}
-    slope, r0 = np.polyfit(fz, rl, 1)
-    if not (slope < 0 and 0.1 < r0 < 2.0 and r0 > rl.max()):
-        return {}
-    return {"UNLOADED_RADIUS": float(r0), "VERTICAL_STIFFNESS": float(-1.0 / slope), "n": int(fz.size),
-            "fz": (float(fz.min()), float(fz.max()))}
-
-
 def design_data(result, datasets, size, measured: dict) -> list[str]:
-    """Put the design data into ``result.params``; the header lines saying where each value came from.
+    """Put the design data into ``result.params`` (:func:`tyrefit.tyres.size.complete_mf_design`); the header lines."""
+    from ..tyres.size import complete_mf_design
 
-    See the module notes for the four origins (data, ``--size`` /
-    ``--rated-load``, estimates, placeholders).
-    """
-    from ..models import mf61
-    from ..tyres.size import design_estimates
-
-    p = result.params
-    template = mf61.neutral()
-    origin: dict[str, str] = {}
-    lines: list[str] = []
-    if measured:
-        p["UNLOADED_RADIUS"] = measured["UNLOADED_RADIUS"]
-        p["VERTICAL_STIFFNESS"] = measured["VERTICAL_STIFFNESS"]
-        origin["UNLOADED_RADIUS"] = origin["VERTICAL_STIFFNESS"] = "data"
-        lines.append(f"UNLOADED_RADIUS {p['UNLOADED_RADIUS']:.4f} m and VERTICAL_STIFFNESS "
-                     f"{p['VERTICAL_STIFFNESS'] / 1e3:.4g} N/mm FROM THE DATA: loaded radius = R0 - Fz/cz fitted to "
-                     f"{measured['n']} samples, Fz {measured['fz'][0]:.0f}-{measured['fz'][1]:.0f} N")
-    levels = result.data.df["pressure"] if "pressure" in result.data.df.columns else None
-    if levels is not None and levels.notna().any():
-        origin["NOMPRES"] = origin["INFLPRES"] = "data"
-    if size is not None:
-        sz = {"WIDTH": size.width, "ASPECT_RATIO": size.aspect_ratio, "RIM_RADIUS": size.rim_radius}
-        if "UNLOADED_RADIUS" not in origin:
-            sz["UNLOADED_RADIUS"] = size.unloaded_radius
-        for k, v in sz.items():
-            p[k] = float(v)
-            origin[k] = "size"
-        lines.append(f"size {size.text}: " + ", ".join(f"{k} {v:.4g}" for k, v in sz.items())
-                     + " (m; radius = rim radius + section height)")
-    rated = getattr(result, "tyre_info", {}).get("fnomin")
-    if rated:
-        origin["FNOMIN"] = "rated load"
-        lines.append(f"FNOMIN {p['FNOMIN']:.0f} N = the rated load (--rated-load)")
-    else:
-        origin["FNOMIN"] = "data"
-    if size is not None:
-        try:
-            est = design_estimates(unloaded_radius=p["UNLOADED_RADIUS"], width=size.width,
-                                   rim_radius=size.rim_radius, rated_load=p["FNOMIN"],
-                                   vertical_stiffness=p["VERTICAL_STIFFNESS"] if measured else None,
-                                   aspect_ratio=size.aspect_ratio)
-        except DataError as exc:  # pragma: no cover - rated_load is FNOMIN > 0
-            est = {}
-            lines.append(f"not estimated: {exc}")
-        keys = {"mass": ("MASS",), "inertia": ("IXX", "IYY"), "vertical_stiffness": ("VERTICAL_STIFFNESS",),
-                "lateral_stiffness": ("LATERAL_STIFFNESS",), "vertical_damping": ("VERTICAL_DAMPING",)}
-        for name, (value, note) in est.items():
-            if value is None:  # not_estimated: said, nothing set
-                lines.append(note)
-                continue
-            vals = value[:2] if name == "inertia" else (value,)
-            for k, v in zip(keys[name], vals):
-                p[k] = float(v)
-                origin[k] = "estimate"
-            lines.append(note + ("" if rated else " (FNOMIN from the data as the rated load)"))
-    placeholders: list[str] = []
-    for sec in DESIGN_SECTIONS:
-        keys = [k for k in mf61.COEFFICIENTS.get(sec, []) if k not in origin and k in p]
-        if not keys:
-            continue
-        placeholders += keys
-        shown = ", ".join(f"{k} {p[k]:g}" for k in keys)
-        lines.append(f"PLACEHOLDER [{sec}] (template values of a 205/60R15, not from these data): {shown}")
-    result.placeholders = placeholders
-    if "UNLOADED_RADIUS" in placeholders:
-        lines.append(f"the Mz, Mx and My coefficients were fitted with UNLOADED_RADIUS {p['UNLOADED_RADIUS']:g} m "
-                     "(a placeholder); keep them with it, or refit with --size")
-    if "NOMPRES" in placeholders:
-        lines.append(f"no pressure column: NOMPRES = INFLPRES {p['NOMPRES'] / 1e3:g} kPa is a placeholder; the "
-                     "pressure terms are not fitted (PPX, PPY, PPZ = 0), so the forces do not depend on it")
+    df = result.data.df
+    lines, result.placeholders = complete_mf_design(
+        result.params, size=size, measured=measured, rated_load_given=bool(result.tyre_info.get("fnomin")),
+        pressure_from_data="pressure" in df.columns and bool(df["pressure"].notna().any()))
     return lines
 
 

@@ -289,9 +289,15 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
 
 def _fit_mf(ds, tir: str, model: str, cost: str) -> dict[str, Any]:
     """Fit a Magic Formula tyre to ``ds`` and write it; the summary fields (Fy, else Fx, as for PAC89)."""
+    from ..tyres.size import complete_mf_design, loaded_radius_law
     from .mf import fit_mf
 
-    result = fit_mf(ds, model=model, cost=cost)
+    measured = loaded_radius_law([ds])  # R0 enters Mz, Mx, My: known before the fit
+    result = fit_mf(ds, model=model, cost=cost,
+                    tyre_info={"unloaded_radius": measured["UNLOADED_RADIUS"]} if measured else None)
+    lines, _ = complete_mf_design(result.params, measured=measured,
+                                  pressure_from_data="pressure" in ds.df.columns and bool(ds.df["pressure"].notna().any()))
+    result.tyre_info["header"] = list(result.tyre_info.get("header", [])) + lines  # origin of each design value
     result.write_tir(tir, force=True)
     s = result.stats.get("fy" if ds.kind == "slip_angle" else "fx") or next(iter(result.stats.values()))
     fz = ds.df["fz"].to_numpy(float)
