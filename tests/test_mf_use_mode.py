@@ -265,3 +265,15 @@ def test_batch_mf_fit_says_where_design_values_come_from(tmp_path):
     assert tyre.params["UNLOADED_RADIUS"] == pytest.approx(truth["UNLOADED_RADIUS"], abs=5e-4)
     assert "FROM THE DATA" in head and re.search(r"PLACEHOLDER \[DIMENSION\][^$]*\bWIDTH 0\.205", head)
     assert not tyre.has_longitudinal
+
+
+def test_inspect_reports_use_mode_and_not_fitted(lateral_fit, tmp_path, capsys):
+    import json
+
+    _, out = lateral_fit
+    js = tmp_path / "i.json"
+    assert main(["inspect", str(out), "--json", str(js)]) == 0
+    text = capsys.readouterr().out
+    assert "model parts: lateral, aligning (pure slip only); USE_MODE 2; not fitted: combined, fx, mx, my" in text
+    d = json.loads(js.read_text())
+    assert d["use_mode"] == 2 and d["parts"] == ["lateral", "aligning"] and "fx" in d["not_fitted"]

@@ -107,6 +107,10 @@ def _tyre_model(tyre) -> dict[str, Any]:
                                                                for k in out["missing"]]
     out["warnings"] = tyre.warnings() if not out["missing"] else []
     out["combined_slip"] = bool(tyre.combined)
+    if getattr(tyre, "use_mode", None) is not None:  # MF files: which parts Adams computes (tyrefit.tyres.mf)
+        out["use_mode"] = tyre.use_mode
+    if getattr(tyre, "not_fitted", None):
+        out["not_fitted"] = sorted(tyre.not_fitted)
     if tyre.family == "PAC89":
         out["chrono_limits"] = CHRONO_NOTE
     return out
@@ -203,7 +207,9 @@ def format_summary(s: dict[str, Any]) -> str:
                      f"{s['parameters']} model parameters; family {s.get('family', '?')}")
         if s.get("parts"):
             lines.append("model parts: " + ", ".join(s["parts"]) + (" (combined slip)" if s.get("combined_slip")
-                                                                     else " (pure slip only)"))
+                                                                     else " (pure slip only)")
+                         + (f"; USE_MODE {s['use_mode']}" if "use_mode" in s else "")
+                         + (f"; not fitted: {', '.join(s['not_fitted'])}" if s.get("not_fitted") else ""))
         if s.get("sections"):
             lines.append("sections: " + ", ".join(s["sections"]))
         d = s.get("dimensions", {})
