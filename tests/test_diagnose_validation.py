@@ -242,6 +242,7 @@ def test_runner_scores_caches_and_tabulates(tmp_path, monkeypatch):
 def test_a_handful_of_diagnoses(layout, noise, effect):
     row = vr.run_case(layout, noise, effect, seed=11)
     assert "error" not in row, row
+    assert row["heldout_over_insample"] > 1.0001, row  # held-out predictions come from fits without the sweep
     if effect is None:
         assert not row["false_alarm"], row
     else:
@@ -279,6 +280,11 @@ def test_insample_mutation_makes_held_out_equal_in_sample_and_is_undone():
     assert engine.fit is orig
     step = dg.steps[0]
     assert step.rmse_heldout == pytest.approx(step.rmse, rel=1e-6)
+    with vr.mutated("insample"):
+        row = vr.run_case("load6", "iid", None, seed=0)
+    assert row["heldout_over_insample"] == pytest.approx(1.0, abs=1e-6)
+    checks = [c for c in vr.check_targets([row]) if c["check"] == "held-out evidence is out of sample"]
+    assert len(checks) == 1 and not checks[0]["ok"]
     with pytest.raises(ValueError, match="unknown mutation"):
         with vr.mutated("nope"):
             pass
