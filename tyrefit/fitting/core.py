@@ -504,7 +504,8 @@ def solve(residual: Callable[[np.ndarray], np.ndarray], params: Parameters, *,
           cost: str = "l2", scale: float | np.ndarray | None = None,
           method: str = "trf", x_scale: str | float | np.ndarray = "jac",
           starts: Sequence[Mapping[str, float] | np.ndarray] | None = None,
-          tol: float = 1e-8, max_nfev: int | None = None, nonfinite: str = "raise",
+          tol: float = 1e-8, ftol: float | None = None, xtol: float | None = None, gtol: float | None = None,
+          max_nfev: int | None = None, nonfinite: str = "raise",
           stderr: bool = True, what: str = "fit") -> Solution:
     """Fit the free parameters of ``params`` by (weighted, bounded, possibly robust) least squares.
 
@@ -545,6 +546,8 @@ def solve(residual: Callable[[np.ndarray], np.ndarray], params: Parameters, *,
         which the residual is not finite are skipped.  Default: ``params``' values.
     tol : float
         ftol = xtol = gtol (SciPy); relative cost change (``'lm-normal'``).
+    ftol, xtol, gtol : float, optional
+        SciPy's tolerances one by one (default ``tol``).
     max_nfev : int, optional
         Evaluation limit per solve (default SciPy's: 100 p; 200 for ``'lm-normal'``).
     nonfinite : {'raise', 'penalise'}
@@ -585,6 +588,7 @@ def solve(residual: Callable[[np.ndarray], np.ndarray], params: Parameters, *,
         raise ValueError("method 'lm-normal' solves the l2 cost only")
     if jac is None:
         jac = "2-point"
+    tols = (tol if ftol is None else ftol, tol if xtol is None else xtol, tol if gtol is None else gtol)
     log, best = [], None
     nfev = 0
     for si, st in enumerate(starts):
@@ -593,7 +597,7 @@ def solve(residual: Callable[[np.ndarray], np.ndarray], params: Parameters, *,
         else:
             x0 = np.asarray(st, dtype=float)
         x, n, ok, msg, fails, J_fd = _solve_one(residual, jac, fun_jac, x0, lb, ub, typical, w, n_data, cost, scale,
-                                          method, x_scale, tol, max_nfev, nonfinite)
+                                          method, x_scale, tols, max_nfev, nonfinite)
         nfev += n
         if fails:
             log.append({"start": si, "cost": float("inf"), "nfev": n})
@@ -639,7 +643,7 @@ def _solve_one(residual, jac, fun_jac, x0, lb, ub, typical, w, n_data, cost, sca
 
             def fr(t):
                 return m * residual(t)
-        x, n, ok = lm_normal(fj, fr, x0, lb, ub, typical, max_nfev or 200, tol)
+        x, n, ok = lm_normal(fj, fr, x0, lb, ub, typical, max_nfev or 200, tol[0])
         return x, n, ok, "", False, None
     xs = typical if isinstance(x_scale, str) and x_scale == "params" else x_scale
     if cost == "l1":
@@ -675,10 +679,11 @@ def _pad(w, n_rows):
 
 
 def _lsq(fr: _Weighted, jac, x0, lb, ub, x_scale, loss, f_scale, method, tol, max_nfev):
+    """One SciPy solve; ``tol`` is (ftol, xtol, gtol)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         return least_squares(fr, x0, jac=fr.jac if callable(jac) else jac, bounds=(lb, ub), method=method,
-                             x_scale=x_scale, loss=loss, f_scale=f_scale, ftol=tol, xtol=tol, gtol=tol,
+                             x_scale=x_scale, loss=loss, f_scale=f_scale, ftol=tol[0], xtol=tol[1], gtol=tol[2],
                              max_nfev=max_nfev)
 
 

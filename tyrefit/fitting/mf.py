@@ -43,8 +43,10 @@ than a 20 Hz one; the statistics use every point.
 Each stage holds the coefficients of the stages before it (Mz0 needs the
 Fy0 cornering stiffness and shape, combined slip needs the pure-slip
 curves), which is why the order is fixed.  Every stage is a small bounded
-least-squares problem (:func:`scipy.optimize.least_squares`, trust-region
-reflective) on the friction coefficient, as the PAC89 fit
+least-squares problem solved by the one fitting core
+(:func:`tyrefit.fitting.core.solve`: SciPy's trust-region reflective
+``least_squares``, the cost and the 1/n_s sweep weights as its options) on the
+friction coefficient, as the PAC89 fit
 (:mod:`tyrefit.fitting.engine`): residual ``r_i = w_s (F_model - F_i) / Fz_i``
 with the *measured* load, camber, pressure and speed of every point, and
 ``w_s = 1/sqrt(n_s)`` per sweep (l2) so densely sampled sweeps do not
@@ -138,11 +140,12 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import least_squares
 
 from ..errors import DataError, FitError
 from . import initial as ini
 from ._blas import single_threaded_blas
+from .core import Parameters, covariance, solve
+from .core import objective as core_objective
 
 __all__ = ["fit_mf", "prepare_mf_data", "identifiability", "MFData", "FitResultMF", "STAGES",
            "EFFECT_COEFFICIENTS", "START_FY0", "effect_coefficients"]
@@ -815,7 +818,10 @@ class _Problem:
         n = cnt[inv].astype(float)
         self.n_sweeps = len(cnt)
         self.cost = cost
-        self.w = (1.0 / np.sqrt(n) if cost == "l2" else 1.0 / n) / (self.eval.fz * scale)
+        self.inv = 1.0 / (self.eval.fz * scale)  # force over load, moment over load x radius
+        self.weights = 1.0 / n  # the core's cost weights: each sweep counts once
+        self.mult = np.sqrt(self.weights) if cost == "l2" else self.weights  # the row multiplier the cost implies
+        self.w = self.mult * self.inv  # weighted residual = w (y - data) (the variable projection uses it)
         self.lb = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[0] for k in self.vary], float)
         self.ub = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[1] for k in self.vary], float)
         if stage.name == "Fy0" and "PKY1" in self.vary:  # the data's orientation (ISO-W: PKY1 < 0)
@@ -837,40 +843,62 @@ class _Problem:
         out = [np.maximum(0.0, m - np.asarray(v, float)) for _, v, m in _factors(p, self.stage.name, F, P, G, S)]
         return self.pen_w * np.concatenate(out) if out else np.zeros(0)
 
-    def residual(self, theta) -> np.ndarray:
+    def mu_residual(self, theta) -> np.ndarray:
+        """Unweighted residual (model - data) over load (x radius for moments), then the penalty rows.
+
+        A non-finite model value is a large residual: 1e3 x the largest row weight once weighted.
+        """
         p = self.params(theta)
         self.nfev += 1
         y = self.eval(p)
-        r = self.w * (y - self.y)
-        r = np.where(np.isfinite(r), r, 1e3 * np.max(self.w))  # a non-finite model value is a large residual
+        r = self.inv * (y - self.y)
+        bad = ~np.isfinite(r)
+        if bad.any():
+            r = np.where(bad, 1e3 * np.max(self.w) / self.mult, r)
         return np.concatenate([r, self.penalties(p)])
 
+    def row_weights(self, n_rows: int) -> np.ndarray:
+        """The core's weights of every row: 1/n_s for the data, 1 for the penalties."""
+        return np.concatenate([self.weights, np.ones(n_rows - self.weights.size)])
+
+    def residual(self, theta) -> np.ndarray:
+        """Weighted residual as the solver sees it (data rows x the cost's multiplier, penalties as they are)."""
+        r = self.mu_residual(theta)
+        r[: self.y.size] *= self.mult
+        return r
+
     def jac(self, theta, r0=None):
+        """Forward-difference Jacobian of :meth:`mu_residual` (steps of each coefficient's typical size)."""
         theta = np.asarray(theta, float)
         if r0 is None:
-            r0 = self.residual(theta)
+            r0 = self.mu_residual(theta)
         J = np.empty((r0.size, theta.size))
         eps = math.sqrt(np.finfo(float).eps)
         for j in range(theta.size):
             h = eps * max(abs(theta[j]), _typical_step(self.vary[j]))
             t = theta.copy()
             t[j] = t[j] + h if t[j] + h <= self.ub[j] else t[j] - h
-            J[:, j] = (self.residual(t) - r0) / (t[j] - theta[j])
+            J[:, j] = (self.mu_residual(t) - r0) / (t[j] - theta[j])
         return J
 
-    def solve(self, theta0, *, loss="linear", f_scale=1.0, tol=1e-8, max_nfev=None):
+    def parameters(self, theta) -> Parameters:
+        pars = Parameters()
+        for k, v, lo, hi in zip(self.vary, theta, self.lb, self.ub):
+            pars.add(k, float(v), min=lo, max=hi)
+        return pars
+
+    def solve(self, theta0, *, cost=None, tol=1e-8, max_nfev=None):
+        """Solve with the fitting core from ``theta0`` (cost: the problem's own; ``'l1'`` continues from it)."""
         if not len(theta0):
             return np.asarray(theta0, float)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            r = least_squares(self.residual, _inside(theta0, self.lb, self.ub), jac=lambda t: self.jac(t),
-                              bounds=(self.lb, self.ub), method="trf", x_scale="jac", loss=loss, f_scale=f_scale,
-                              ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev or 100)
-        return r.x
+        sol = solve(self.mu_residual, self.parameters(_inside(theta0, self.lb, self.ub)), jac=self.jac,
+                    weights=self.weights, n_data=self.y.size, cost=cost or self.cost, x_scale="jac", tol=tol,
+                    max_nfev=max_nfev or 100, stderr=False, what=f"MF stage {self.stage.name}")
+        return sol.x
 
     def objective(self, theta) -> float:
-        r = self.residual(theta)
-        return float(np.sum(r * r)) if self.cost == "l2" else float(np.sum(np.abs(r)))
+        r = self.mu_residual(theta)
+        return core_objective(r, self.row_weights(r.size), self.cost)
 
     def theta(self, p: Mapping[str, float]) -> np.ndarray:
         return _inside(np.array([float(p.get(k, self.base.get(k, 0.0))) for k in self.vary]), self.lb, self.ub)
@@ -1083,10 +1111,12 @@ class _Projection:
         best = None
         for _, q in picked:
             th0 = np.array([q[k] for k in self.nonlinear])
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)
-                sol = least_squares(lambda th: self.solve_linear(dict(zip(self.nonlinear, th)))[0], th0,
-                                    method="trf", x_scale="jac", max_nfev=60 * len(th0), ftol=1e-10, xtol=1e-10)
+            pars = Parameters()
+            for k, v in zip(self.nonlinear, th0):
+                pars.add(k, float(v))
+            sol = solve(lambda th: self.solve_linear(dict(zip(self.nonlinear, th)))[0], pars, x_scale="jac",
+                        max_nfev=60 * len(th0), ftol=1e-10, xtol=1e-10, gtol=1e-8, stderr=False,
+                        what="variable projection")
             if best is None or sol.cost < best[0]:
                 best = (sol.cost, sol.x)
         q = dict(zip(self.nonlinear, best[1].tolist()))
@@ -1219,13 +1249,9 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     n_before = prob.nfev
     th = prob.solve(th, tol=1e-10, max_nfev=_POLISH_NFEV // 4 if secondary else _POLISH_NFEV)
     nfev += prob.nfev - n_before
-    if cost == "l1":
+    if cost == "l1":  # Komana et al. Eq. 5: the core's pseudo-Huber continuation from the l2 solution
         pl1 = _Problem(stage, pts_p, prob.params(th), want, nominal, version, "l1", scale, pkysign)
-        th1 = pl1.theta(prob.params(th))
-        r0 = pl1.residual(th1)[: len(pts_p)]
-        s0 = float(np.median(np.abs(r0))) or 1e-9
-        for fs in (0.3 * s0, 0.03 * s0, 0.003 * s0):
-            th1 = pl1.solve(th1, loss="soft_l1", f_scale=fs)
+        th1 = pl1.solve(pl1.theta(prob.params(th)))
         nfev += pl1.nfev
         prob, th = pl1, th1
     fitted = prob.params(th)
@@ -1365,11 +1391,8 @@ def _thin(pts: pd.DataFrame, per_sweep: int) -> pd.DataFrame:
 
 
 def _stderr(prob: _Problem, th, n: int) -> dict[str, float]:
-    try:
-        J = prob.jac(th)[:n]
-        r = prob.residual(th)[:n]
-        s2 = float(np.sum(r * r)) / max(1, n - len(th))
-        cov = np.linalg.pinv(J.T @ J) * s2
+    try:  # least-squares weighting (1/n_s) at the solution, whatever the cost: tyrefit.fitting.core.covariance
+        cov, _ = covariance(prob.jac(th), prob.mu_residual(th), prob.weights, n_data=n)
         return dict(zip(prob.vary, np.sqrt(np.clip(np.diag(cov), 0, None)).tolist()))
     except (np.linalg.LinAlgError, ValueError):  # pragma: no cover
         return {k: float("nan") for k in prob.vary}
