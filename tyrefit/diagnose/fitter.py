@@ -4,10 +4,19 @@ Diagnosis refits the model hundreds of times (candidates x hold-out folds),
 so this fitter is built for speed: the Jacobian is PAC89's analytic one with
 respect to a0..a13 chained with the derivative of the point-wise coefficients
 with respect to the parameters (all parameter steps evaluated at once as
-``(P+1, 1)`` columns broadcast against the points), a box-constrained Levenberg-Marquardt
-on the small normal equations does the rest, and refits start from the
-previous solution.  The cost is ordinary
-least squares on the lateral force in N.
+``(P+1, 1)`` columns broadcast against the points), and refits start from the
+previous solution.
+
+The problem is stated in the one fitting core (:mod:`tyrefit.fitting.core`):
+the parameters are core :class:`~tyrefit.fitting.core.Parameters` made from
+the effects' catalogue definitions (neutral value, bounds, scale, unit), and
+every fit is one :func:`tyrefit.fitting.core.solve` with its ``'lm-normal'``
+back end (box-constrained Levenberg-Marquardt on the small normal equations:
+P <= ~20 parameters, warm starts).  The cost is the core's ``'l2'`` on the
+lateral force in N with every point weighted alike, not the PAC89 fit's mu
+residual with 1/n_s sweep weights: the diagnosis statistics (screening
+score, bootstrap noise model, held-out RMSE) are all point-wise in N, so the
+fitted model must be the ordinary least-squares one they assume.
 """
 
 from __future__ import annotations
@@ -19,8 +28,9 @@ import numpy as np
 from ..effects import BASE, Effect, ModelInputs, get_effect
 from ..effects import coefficients as _coefficients
 from ..effects import lateral_force as _model
-from ..models import pac89
 from ..errors import FitError
+from ..fitting.core import Parameters, Sweeps, lm_normal, solve
+from ..models import pac89
 from .data import SweepData
 
 __all__ = ["ModelSpec", "FitOut", "fit", "initial_guess"]
@@ -52,6 +62,15 @@ class ModelSpec:
         self.lower = np.array([p.bounds[0] for p in params])
         self.upper = np.array([p.bounds[1] for p in params])
         self.scale = np.array([p.scale for p in params])
+
+    def parameters(self, theta=None) -> Parameters:
+        """The fitting core's parameters at ``theta`` (default: neutral values); fixed ones held (vary=False)."""
+        out = Parameters()
+        for j, p in enumerate(self.params):
+            out[p.name] = p.parameter(p.neutral if theta is None else theta[j])
+        for k, v in self.fixed.items():
+            out.add(k, float(v), vary=False)
+        return out
 
     @property
     def ids(self) -> list[str]:
@@ -154,18 +173,18 @@ class FitOut:
     values: dict
 
 
-def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200, tol: float = 1e-9) -> FitOut:
-    """Least-squares fit of ``spec`` to ``data`` (points ``idx``), starting at ``x0``.
-
-    ``tol`` is the relative cost reduction below which the fit stops.
-    Returns the fit on the chosen points; raises :class:`FitError` if the model
-    cannot be evaluated (non-finite) at the start.
-    """
-    inputs = data.inputs if idx is None else data.inputs.take(idx)
-    y = data.fy if idx is None else data.fy[idx]
+def _start(spec: ModelSpec, x0) -> np.ndarray:
+    """``x0`` clipped into the box and moved 1e-9 of a scale off a bound."""
     x = spec.start(None) if x0 is None else np.clip(np.asarray(x0, float), spec.lower, spec.upper)
     x = np.where(x <= spec.lower, spec.lower + 1e-9 * spec.scale, x)
-    x = np.where(x >= spec.upper, spec.upper - 1e-9 * spec.scale, x)
+    return np.where(x >= spec.upper, spec.upper - 1e-9 * spec.scale, x)
+
+
+def _problem(spec: ModelSpec, data: SweepData, idx):
+    """(residual, residual-and-Jacobian, points) of ``spec`` on the points ``idx`` of ``data``."""
+    inputs = data.inputs if idx is None else data.inputs.take(idx)
+    y = data.fy if idx is None else data.fy[idx]
+
     def both(t):
         f0, J = spec.jacobian(t, inputs)
         return f0 - y, J
@@ -173,71 +192,48 @@ def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200
     def fun(t):
         return spec.predict(t, inputs) - y
 
-    r0 = fun(x)
-    if not np.all(np.isfinite(r0)):
-        raise FitError("the model is not finite at the start values; check the data units (fz [N], slip [rad])")
-    theta, nfev, ok = _levenberg_marquardt(both, fun, x, spec.lower, spec.upper, spec.scale, max_nfev, tol)
-    r = spec.predict(theta, inputs) - y
-    return FitOut(theta=theta, resid=r, rmse=float(np.sqrt(np.mean(r**2))), nfev=nfev,
-                  success=ok and bool(np.all(np.isfinite(r))), values=spec.values(theta))
+    return fun, both, inputs, y
 
 
-def _levenberg_marquardt(jac, fun, x, lower, upper, scale, max_nfev: int, tol: float = 1e-9):
-    """Box-constrained Levenberg-Marquardt on the scaled normal equations.
+def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200, tol: float = 1e-9) -> FitOut:
+    """Least-squares fit of ``spec`` to ``data`` (points ``idx``), starting at ``x0``.
 
-    The problems are small (P <= ~20 parameters) and start close to the
-    optimum, so solving the P x P normal equations with Marquardt's diagonal
-    damping is far cheaper than an SVD of the N x P Jacobian per iteration.
-    Parameters at a bound whose descent direction points out of the box are
-    held there for the step (active set); the others are clipped to the box.
-    Converges when an accepted step lowers the cost by less than ``tol``
-    relatively or moves no parameter by more than ``tol`` of its scale.
-    Returns (theta, evaluations, converged).
+    One :func:`tyrefit.fitting.core.solve` (``'lm-normal'`` back end, ``'l2'``
+    cost on Fy in N, all points weighted alike).  ``tol`` is the relative cost
+    reduction below which the fit stops.  Returns the fit on the chosen
+    points; raises :class:`FitError` if the model cannot be evaluated
+    (non-finite) at the start.
     """
-    r, J = jac(x)
-    cost = float(r @ r)
-    lam, nu = 1e-3, 2.0
-    nfev = 1
-    converged = False
-    span = 1e-12 * scale
-    while nfev < max_nfev:
-        Js = J * scale
-        g = Js.T @ r
-        active = ((x <= lower + span) & (g > 0)) | ((x >= upper - span) & (g < 0))
-        free = ~active
-        A = Js[:, free].T @ Js[:, free]
-        d = np.diag(A).copy()
-        d[d <= 0] = 1.0
-        h = np.zeros_like(x)
-        try:
-            h[free] = -np.linalg.solve(A + lam * np.diag(d), g[free])
-        except np.linalg.LinAlgError:
-            h[free] = -np.linalg.lstsq(A + lam * np.diag(d), g[free], rcond=None)[0]
-        x_new = np.clip(x + h * scale, lower, upper)
-        h = (x_new - x) / scale
-        predicted = -(2.0 * h @ g + h @ (Js.T @ (Js @ h)))
-        r_new = fun(x_new)
-        nfev += 1
-        cost_new = float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
-        if cost_new < cost:
-            rel = (cost - cost_new) / max(cost, 1e-300)
-            rho = (cost - cost_new) / predicted if predicted > 0 else 0.0
-            dx = np.max(np.abs(h))
-            x, cost = x_new, cost_new
-            r, J = jac(x)
-            # Nielsen's damping update: shrink a lot when the linear model was good
-            lam = max(lam * max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), 1e-12)
-            nu = 2.0
-            if rel < tol or dx < tol:
-                converged = True
-                break
-        else:
-            lam *= nu
-            nu *= 2.0
-            if lam > 1e10:
-                converged = True  # no downhill step left: a (possibly bounded) minimum
-                break
-    return x, nfev, converged
+    fun, both, _, _ = _problem(spec, data, idx)
+    x = _start(spec, x0)
+    try:
+        sol = solve(fun, spec.parameters(x), fun_jac=both, method="lm-normal", max_nfev=max_nfev, tol=tol,
+                    stderr=False, what="diagnosis refit")
+    except FitError:
+        raise FitError("the model is not finite at the start values; check the data units (fz [N], slip [rad])") \
+            from None
+    return _fitout(spec, sol)
+
+
+def _fitout(spec: ModelSpec, sol) -> FitOut:
+    r = sol.resid
+    return FitOut(theta=sol.x, resid=r, rmse=float(np.sqrt(np.mean(r**2))), nfev=sol.nfev,
+                  success=sol.success and bool(np.all(np.isfinite(r))), values=spec.values(sol.x))
+
+
+#: the normal-equation Levenberg-Marquardt now lives in the fitting core (kept under its old name)
+_levenberg_marquardt = lm_normal
+
+
+def sweeps_of(data: SweepData) -> Sweeps:
+    """The diagnosis points as the fitting core's :class:`~tyrefit.fitting.core.Sweeps` (Fy [N], unit weights)."""
+    x = data.inputs
+    cond = {"fz": x.fz, "slip_angle": x.slip_angle, "camber": x.camber}
+    if x.pressure is not None:
+        cond["pressure"] = x.pressure
+    if x.speed is not None:
+        cond["speed"] = x.speed
+    return Sweeps(data.fy, data.sweep, cond, np.ones(data.n), {k: np.asarray(v) for k, v in data.levels.items()})
 
 
 def initial_guess(data: SweepData) -> dict:
@@ -289,17 +285,13 @@ def initial_guess(data: SweepData) -> dict:
 
 
 def fit_start(spec: ModelSpec, data: SweepData) -> FitOut:
-    """Fit from the data-based initial guess, trying a few curvature/shape starts."""
+    """Fit from the data-based initial guess, trying a few curvature/shape starts (the core's multi-start)."""
     g = initial_guess(data)
-    best = None
-    for a0, a7 in ((1.4, -0.3), (1.2, 0.3), (1.7, -1.0)):
-        g.update(a0=a0, a7=a7)
-        try:
-            out = fit(spec, data, x0=spec.start(g))
-        except FitError:
-            continue
-        if best is None or out.rmse < best.rmse:
-            best = out
-    if best is None:
-        raise FitError("PAC89 start model could not be fitted to these data")
-    return best
+    starts = [_start(spec, spec.start(dict(g, a0=a0, a7=a7))) for a0, a7 in ((1.4, -0.3), (1.2, 0.3), (1.7, -1.0))]
+    fun, both, _, _ = _problem(spec, data, None)
+    try:
+        sol = solve(fun, spec.parameters(starts[0]), fun_jac=both, method="lm-normal", max_nfev=200, tol=1e-9,
+                    starts=starts, stderr=False, what="PAC89 start model")
+    except FitError:
+        raise FitError("PAC89 start model could not be fitted to these data") from None
+    return _fitout(spec, sol)

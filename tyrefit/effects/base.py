@@ -15,12 +15,17 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..fitting.core import Parameter
+
 __all__ = ["Param", "PhysicsCard", "DataSummary", "ModelInputs", "Effect"]
 
 
 @dataclass(frozen=True)
 class Param:
-    """One parameter of an effect.
+    """One parameter of an effect: its catalogue definition.
+
+    The fit-time state (value, vary, standard error) is the fitting core's
+    :class:`~tyrefit.fitting.core.Parameter`, made by :meth:`parameter`.
 
     Attributes
     ----------
@@ -48,6 +53,11 @@ class Param:
     unit: str
     scale: float
     meaning: str
+
+    def parameter(self, value: float | None = None) -> Parameter:
+        """This definition as the fitting core's :class:`~tyrefit.fitting.core.Parameter` at ``value`` (default neutral)."""
+        return Parameter(self.name, self.neutral if value is None else float(value), self.bounds[0], self.bounds[1],
+                         True, None, self.unit, self.scale, self.meaning)
 
 
 @dataclass(frozen=True)
