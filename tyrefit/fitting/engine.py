@@ -71,7 +71,6 @@ from __future__ import annotations
 import functools
 import math
 import time
-import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 

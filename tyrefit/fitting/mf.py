@@ -133,7 +133,6 @@ from __future__ import annotations
 import math
 import os
 import time
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -1353,11 +1352,13 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
 
     th0 = _inside(np.array([p[k] for k in vary]), lb, ub)
     r_start = residual(th0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        sol = least_squares(residual, th0, jac=jac, bounds=(lb, ub), method="trf", x_scale="jac",
-                            ftol=1e-10, xtol=1e-10, gtol=1e-10, max_nfev=_JOINT_NFEV)
-    obj0, obj = float(r_start @ r_start), float(2.0 * sol.cost)
+    pars = Parameters()
+    for k, v, lo, hi in zip(vary, th0, lb, ub):
+        pars.add(k, float(v), min=lo, max=hi)
+    # the one fitting core; the 1/sqrt(n_s) sweep weights are already in each block's rows (w), so unit weights
+    sol = solve(residual, pars, jac=jac, x_scale="jac", tol=1e-10, max_nfev=_JOINT_NFEV, stderr=False,
+                what="MF joint polish")
+    obj0, obj = float(r_start @ r_start), float(sol.cost)
     if not obj < obj0:
         return None
     q = dict(zip(vary, sol.x.tolist()))
