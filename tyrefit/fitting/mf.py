@@ -141,10 +141,14 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DataError, FitError
+from ..models import mf61
 from . import initial as ini
 from ._blas import single_threaded_blas
 from .core import Parameters, covariance, solve
 from .core import objective as core_objective
+from .mf_result import FitResultMF, _noise_floor
+from .mf_stages import (FX0, FXC, FY0, FYC, MX, MX_LINEAR, MY, MZ0, MZC, STAGES, _ONLY_61,  # noqa: F401
+                        _STAGE, Stage)
 
 __all__ = ["fit_mf", "prepare_mf_data", "identifiability", "MFData", "FitResultMF", "STAGES",
            "EFFECT_COEFFICIENTS", "START_FY0", "effect_coefficients"]
@@ -153,56 +157,7 @@ _DEG = math.pi / 180.0
 _MODELS = {"mf61": "6.1", "mf52": "5.2"}
 
 # ------------------------------------------------------------------------------- stages
-FX0 = ("PCX1", "PDX1", "PDX2", "PDX3", "PEX1", "PEX2", "PEX3", "PEX4", "PKX1", "PKX2", "PKX3",
-       "PHX1", "PHX2", "PVX1", "PVX2", "PPX1", "PPX2", "PPX3", "PPX4")
-FY0 = ("PCY1", "PDY1", "PDY2", "PDY3", "PEY1", "PEY2", "PEY3", "PEY4", "PEY5", "PKY1", "PKY2", "PKY3",
-       "PKY4", "PKY5", "PKY6", "PKY7", "PHY1", "PHY2", "PHY3", "PVY1", "PVY2", "PVY3", "PVY4",
-       "PPY1", "PPY2", "PPY3", "PPY4", "PPY5")
-MZ0 = ("QBZ1", "QBZ2", "QBZ3", "QBZ4", "QBZ5", "QBZ9", "QBZ10", "QCZ1", "QDZ1", "QDZ2", "QDZ3", "QDZ4",
-       "QDZ6", "QDZ7", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "QEZ1", "QEZ2", "QEZ3", "QEZ4", "QEZ5",
-       "QHZ1", "QHZ2", "QHZ3", "QHZ4", "PPZ1", "PPZ2")
-FXC = ("RBX1", "RBX2", "RBX3", "RCX1", "REX1", "REX2", "RHX1")
-FYC = ("RBY1", "RBY2", "RBY3", "RBY4", "RCY1", "REY1", "REY2", "RHY1", "RHY2",
-       "RVY1", "RVY2", "RVY3", "RVY4", "RVY5", "RVY6")
-MZC = ("SSZ1", "SSZ2", "SSZ3", "SSZ4")
-MX = tuple(f"QSX{i}" for i in range(1, 15)) + ("PPMX1",)
-#: the Mx terms that enter linearly (fitted first; the trigonometric QSX4-QSX11 then start from them)
-MX_LINEAR = ("QSX1", "QSX2", "QSX3", "QSX12", "QSX13", "QSX14", "PPMX1")
-MY = ("QSY1", "QSY2", "QSY3", "QSY4", "QSY5", "QSY6", "QSY7", "QSY8")
-
-#: MF 5.2 has no pressure terms and uses the 5.2 camber forms; these are the coefficients 6.1 added
-_ONLY_61 = frozenset(["PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPY5", "PPZ1", "PPZ2",
-                      "PPMX1", "PKY5", "PKY6", "PKY7", "PEY5", "QDZ10", "QDZ11", "RBX3", "RBY4", "QSY7", "QSY8",
-                      "QBZ6"])
-
-
-@dataclass(frozen=True)
-class Stage:
-    """One stage of the fit: its channel, its sweeps and its coefficients."""
-
-    name: str
-    channel: str
-    sweeps: tuple[str, ...]  # sweep kinds it fits: 'longitudinal', 'lateral', 'combined'
-    names: tuple[str, ...]
-    core: tuple[str, ...]  # coefficients of the core sub-stage of the multi-start
-    pure: str | None = None  # 'alpha' -> evaluate at slip_angle = 0; 'kappa' -> at slip_ratio = 0
-    moment: bool = False
-
-
-STAGES: tuple[Stage, ...] = (
-    Stage("Fx0", "fx", ("longitudinal",), FX0, ("PCX1", "PDX1", "PKX1", "PEX1"), pure="alpha"),
-    Stage("Fy0", "fy", ("lateral",), FY0, ("PCY1", "PDY1", "PKY1", "PKY2", "PEY1"), pure="kappa"),
-    Stage("Mz0", "mz", ("lateral",), MZ0, ("QBZ1", "QCZ1", "QDZ1", "QEZ1", "QDZ6"), pure="kappa", moment=True),
-    Stage("Fx", "fx", ("combined",), FXC, ("RBX1", "RBX2", "RCX1")),
-    Stage("Fy", "fy", ("combined", "longitudinal"), FYC, ("RBY1", "RBY2", "RCY1")),
-    Stage("Mz", "mz", ("combined", "longitudinal"), MZC, ("SSZ1", "SSZ2"), moment=True),
-    # combined Mz carries the errors of the pure trail and of the combined forces: a last polish of every Mz
-    # coefficient on every sweep with Mz (pure and combined), from the staged values, no multi-start
-    Stage("Mz*", "mz", ("lateral", "combined", "longitudinal"), MZ0 + MZC, (), moment=True),
-    Stage("Mx", "mx", ("lateral", "combined", "longitudinal"), MX, MX_LINEAR, moment=True),
-    Stage("My", "my", ("longitudinal", "combined"), MY, ("QSY1", "QSY2"), moment=True),
-)
-_STAGE = {s.name: s for s in STAGES}
+# (defined in tyrefit.fitting.mf_stages, shared with the result container)
 
 #: start model of diagnose, in MF 6.1 lateral coefficients (shape, friction, stiffness law, curvature)
 START_FY0 = ("PCY1", "PDY1", "PKY1", "PKY2", "PEY1")
@@ -458,8 +413,6 @@ def channel_signal(data: MFData, channel: str) -> tuple[float, float, str]:
     (signal variance < 0.56 x the noise variance) is not fitted: its coefficients would model noise (qa
     bug 7: 14 Mx coefficients fitted to a pure-noise MX channel, R^2 -0.0016).
     """
-    from .mf_result import _noise_floor
-
     d = data.df
     if channel not in d:
         return float("nan"), float("nan"), ""
@@ -684,11 +637,7 @@ def _grid(pts: pd.DataFrame, nominal: Mapping[str, float]):
 
 # --------------------------------------------------------------------------- the evaluator
 def _mf61():
-    try:
-        from ..models import mf61
-    except ImportError:  # pragma: no cover - the evaluator ships with the package
-        raise DataError("--model mf61: the Magic Formula evaluator (tyrefit.models.mf61) is not available in this "
-                        "installation") from None
+    """The Magic Formula evaluator (:mod:`tyrefit.models.mf61`), the module the stages evaluate."""
     return mf61
 
 
@@ -1524,6 +1473,3 @@ def _check_orientation(data: MFData, p, version) -> None:
         raise DataError(f"{', '.join(data.sources)}: the lateral force rises with slip angle; in ISO-W (tyrefit's "
                         "convention) a positive slip angle gives a negative lateral force. If the file uses the SAE "
                         "convention (FSAE TTC), pass --convention sae")
-
-
-from .mf_result import FitResultMF  # noqa: E402  (the result container lives beside the fitter)

@@ -38,6 +38,10 @@ import numpy as np
 import pandas as pd
 
 from .. import __version__
+from ..models import mf61
+from .initial import load_levels
+from .mf_stages import STAGES
+from .result import noise_floor_of
 
 __all__ = ["FitResultMF"]
 
@@ -54,8 +58,6 @@ def _noise_floor(df: pd.DataFrame, channel: str) -> float:
     over the sweeps.  Slip-angle sweeps and slip-ratio sweeps (pure or combined) are taken apart and
     pooled by points.
     """
-    from .result import noise_floor_of
-
     tot, npts = 0.0, 0
     for kind, g in df.groupby("kind", sort=True):
         slip = _SLIP[kind]
@@ -115,9 +117,7 @@ class FitResultMF:
     # ------------------------------------------------------------------ building
     @classmethod
     def build(cls, p, fits, data, *, model, version, cost, notes, tyre_info, seconds, effects=None):
-        from .mf import _Eval, _mf61  # noqa: F401
-
-        mf = _mf61()
+        mf = mf61
         df = data.df
         kw = {"version": version} if version != "6.1" else {}
         pr = df["pressure"].to_numpy(float)
@@ -198,8 +198,6 @@ class FitResultMF:
         """Write the ``FITTYP = 61`` property file (every coefficient; neutral where not fitted)."""
         from ..io.mf_tir import write_mf_tir
 
-        from .mf import STAGES
-
         not_fitted = [s.name.lower() for s in STAGES if s.name != "Mz*"
                       and (s.name not in self.stages or not self.stages[s.name].varied)]
         held = sorted(k for k in self.not_identifiable if k not in self.fitted
@@ -257,8 +255,6 @@ class FitResultMF:
         d = _nominal_slice(d, self.params)
         slip = _SLIP[kind]
         xs = 100.0 if slip == "slip_ratio" else 1 / _DEG
-        from .initial import load_levels
-
         if kind == "combined":
             # one load (the level nearest FNOMIN), one curve per slip angle
             lv = load_levels(d.groupby("run")["fz"].transform("mean").to_numpy())
@@ -401,8 +397,6 @@ def _nominal_slice(d: pd.DataFrame, p) -> pd.DataFrame:
 
 
 def _cells(df: pd.DataFrame) -> pd.DataFrame:
-    from .initial import load_levels
-
     sw = df.groupby("run").agg(fz=("fz", "mean"), pressure=("pressure", "mean"), camber=("camber", "mean"),
                                alpha=("slip_angle", "median"), kind=("kind", "first"))
     sw["load_level"] = load_levels(sw["fz"].to_numpy())
