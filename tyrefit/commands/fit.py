@@ -19,6 +19,8 @@ from pathlib import Path
 
 from ..errors import DataError
 from ..io.outputs import check_outputs
+from ..tyres.size import complete_design, size_and_rated_load
+from .fit_mf import run_mf
 
 __all__ = ["run", "fit_file"]
 
@@ -140,8 +142,6 @@ def fit_file(args, ds=None):
         result = fit_pac89(data, cost=args.cost, tyre_info=info, fixed=fixed)
     if sfi is not None and hasattr(sfi, "apply_to"):
         sfi.apply_to(result.tyre)
-    from ..tyres.size import complete_design
-
     notes += [n for n in complete_design(result.tyre, size, getattr(args, "rated_load", None))
               if "ESTIMATED" in n or "not estimated" in n or n.startswith("no tyre size")]
     result.notes.extend(n for n in notes if n not in result.notes)
@@ -150,14 +150,7 @@ def fit_file(args, ds=None):
 
 def _size_and_load(args):
     """Validate ``--rated-load`` (finite, > 0) and parse ``--size``; the :class:`TyreSize` or None."""
-    import math as _math
-
-    from ..tyres.size import parse_size
-
-    rl = getattr(args, "rated_load", None)
-    if rl is not None and not (_math.isfinite(rl) and rl > 0):
-        raise DataError(f"--rated-load {rl!r}: the rated load must be a positive, finite force in N")
-    return parse_size(args.size) if getattr(args, "size", None) else None
+    return size_and_rated_load(getattr(args, "size", None), getattr(args, "rated_load", None))
 
 
 def _effects_split(effects):
@@ -237,8 +230,6 @@ def run(args) -> int:
         if getattr(args, "by", None):
             raise DataError(f"--by {args.by} writes one PAC89 tyre per level; --model {args.model} carries "
                             "pressure, camber and speed in one tyre - drop --by")
-        from .fit_mf import run_mf
-
         return run_mf(args, out, datas)
     if len(datas) > 1:
         raise DataError(f"{len(datas)} DATA files: fitting one tyre to several files needs a Magic Formula model "

@@ -40,6 +40,7 @@ import os
 from pathlib import Path
 
 from ..errors import DataError
+from ..tyres.size import complete_mf_design, loaded_radius_law, size_and_rated_load
 
 __all__ = ["run_mf", "fit_mf_files"]
 
@@ -62,13 +63,9 @@ def fit_mf_files(args, datas):
         sets.append(ds)
     data = prepare_mf_data(sets)
     info = {"name": Path(datas[0]).stem}
-    from .fit import _size_and_load
-
-    size = _size_and_load(args)
+    size = size_and_rated_load(getattr(args, "size", None), getattr(args, "rated_load", None))
     if getattr(args, "rated_load", None) is not None:
         info["fnomin"] = float(args.rated_load)
-    from ..tyres.size import loaded_radius_law
-
     measured = loaded_radius_law(sets)
     if measured:
         info["unloaded_radius"] = measured["UNLOADED_RADIUS"]
@@ -93,8 +90,6 @@ def fit_mf_files(args, datas):
 
 def design_data(result, datasets, size, measured: dict) -> list[str]:
     """Put the design data into ``result.params`` (:func:`tyrefit.tyres.size.complete_mf_design`); the header lines."""
-    from ..tyres.size import complete_mf_design
-
     df = result.data.df
     lines, result.placeholders = complete_mf_design(
         result.params, size=size, measured=measured, rated_load_given=bool(result.tyre_info.get("fnomin")),

@@ -44,7 +44,7 @@ import numpy as np
 
 from ..errors import DataError
 
-__all__ = ["TyreSize", "parse_size", "design_estimates", "complete_design", "G0", "loaded_radius_law",
+__all__ = ["TyreSize", "parse_size", "size_and_rated_load", "design_estimates", "complete_design", "G0", "loaded_radius_law",
            "complete_mf_design", "MF_DESIGN_SECTIONS"]
 
 G0 = 9.80665
@@ -123,6 +123,21 @@ def parse_size(text: str) -> TyreSize:
         raise DataError(f"--size {s!r}: width {width * 1e3:.0f} mm, aspect ratio {aspect * 100:.0f} %, rim "
                         f"{rim / _INCH:g} in is not a tyre; expected e.g. 385/65R22.5")
     return TyreSize(s, width, aspect, rim)
+
+
+def size_and_rated_load(size: str | None, rated_load: float | None) -> TyreSize | None:
+    """``--size`` parsed (None when not given) after ``--rated-load`` is checked to be finite and > 0.
+
+    The one check of the two flags for every ``fit`` model (PAC89 and Magic Formula).
+
+    Raises
+    ------
+    DataError
+        the rated load is not a positive, finite force, or the size is not a tyre size (:func:`parse_size`).
+    """
+    if rated_load is not None and not (math.isfinite(rated_load) and rated_load > 0):
+        raise DataError(f"--rated-load {rated_load!r}: the rated load must be a positive, finite force in N")
+    return parse_size(size) if size else None
 
 
 def design_estimates(*, unloaded_radius: float, width: float, rim_radius: float | None = None,
