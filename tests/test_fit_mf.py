@@ -296,6 +296,23 @@ def test_channel_of_pure_noise_is_not_fitted():
     assert "Mx" in real.stages and real.stats["mx"]["fitted"] and real.stats["mx"]["r2"] > 0.95
 
 
+def test_mx_sine_term_fitted_from_two_loads():
+    # the bundled TTC-style pair has 2 loads: holding QSX4-QSX9 there (old rule: >= 3 loads and 2 cambers)
+    # left Mx at 5.3 x its noise floor; the sine term along Fy needs cornering sweeps, only its load factor 3 loads
+    design = dict(loads=[3500.0, 7000.0], pressures=[260e3], cambers_deg=[0.0, 3.0], slip_angles_deg=(),
+                  combined=False)
+    df = gen.make_sweeps(seed=23, n_points=41, **design)
+    r = fit_mf(df, tyre_info=INFO, stages=["Fy0", "Mx"])
+    assert {"QSX4", "QSX7", "QSX8", "QSX9"} <= set(r.fitted)
+    assert ">= 3 load levels" in r.not_identifiable["QSX5"] and "QSX6" in r.not_identifiable
+    assert r.stats["mx"]["rmse"] < 1.2 * r.stats["mx"]["noise_floor"], r.stats["mx"]
+    assert recovery_error(r.params, **design)["mx"] < 1.0
+    # the same record without the sine term (what the old rule held) is far off: the measure can fail
+    held = fit_mf(df, tyre_info=INFO, stages=["Fy0", "Mx"], fixed={f"QSX{i}": 0.0 for i in range(4, 10)})
+    assert held.stats["mx"]["rmse"] > 2.0 * held.stats["mx"]["noise_floor"]
+    assert recovery_error(held.params, **design)["mx"] > 3.0
+
+
 def test_one_noise_floor_for_pac89_and_mf(tmp_path, capsys):
     # qa bug 3 / issue 14: `fit X` and `fit X --model mf52` printed 62.1 and 68.5 N for one file
     df = gen.make_sweeps(seed=22, pressures=[260e3], cambers_deg=[0.0, 3.0], slip_angles_deg=(), n_points=41,
