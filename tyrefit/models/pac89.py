@@ -50,6 +50,7 @@ __all__ = [
     "LONGITUDINAL",
     "ALIGNING",
     "ALL",
+    "PARTS",
     "Factors",
     "magic_formula",
     "lateral_factors",
@@ -68,6 +69,8 @@ LATERAL: tuple[str, ...] = tuple(f"a{i}" for i in range(14))
 LONGITUDINAL: tuple[str, ...] = tuple(f"b{i}" for i in range(11))
 ALIGNING: tuple[str, ...] = tuple(f"c{i}" for i in range(18))
 ALL: tuple[str, ...] = LATERAL + LONGITUDINAL + ALIGNING
+#: the coefficients of each part (a block present in a tyre file must give them all)
+PARTS: dict[str, tuple[str, ...]] = {"lateral": LATERAL, "longitudinal": LONGITUDINAL, "aligning": ALIGNING}
 
 _RAD2DEG = 180.0 / np.pi
 #: Chrono clamps the shifted slip to +/-89.5 deg before the Magic Formula

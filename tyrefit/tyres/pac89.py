@@ -16,6 +16,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..io.chrono_doc import chrono_fields, write_chrono_json
+from ..io.pac89_tir import read_pac89_fields, write_tir
 from ..models import pac89
 from .base import Tyre
 
@@ -23,7 +25,7 @@ __all__ = ["Pac89Tyre"]
 
 
 #: coefficients a PAC89 part needs (a block present in the file must give them all)
-REQUIRED = {"lateral": pac89.LATERAL, "longitudinal": pac89.LONGITUDINAL, "aligning": pac89.ALIGNING}
+REQUIRED = pac89.PARTS
 
 #: Chrono's ChPac89Tire limits (projectchrono/chrono @ 05a1a976a6,
 #: src/chrono_vehicle/wheeled_vehicle/tire/ChPac89Tire.cpp, ChPac89Tire::Advance)
@@ -241,19 +243,19 @@ class Pac89Tyre(Tyre):
     # -- files ----------------------------------------------------------------------
     @classmethod
     def from_file(cls, path) -> "Pac89Tyre":
-        """Read a PAC89 ``.tir`` or a Chrono PAC89 JSON file."""
-        from ..io.tir import read_tyre
+        """Read a PAC89 ``.tir`` or a Chrono PAC89 JSON file.
 
-        return read_tyre(path)
+        A tyre file of another family is refused (:class:`~tyrefit.errors.FormatError`);
+        :func:`tyrefit.io.tir.read_tyre` reads every family into its own class.
+        """
+        return cls(**(chrono_fields(path) if str(path).lower().endswith(".json") else read_pac89_fields(path)))
 
     def to_tir(self, path, force: bool = False):
-        from ..io.tir import write_tir
-
+        """Write the Adams PAC89 ``.tir`` (:func:`tyrefit.io.tir.write_tir`)."""
         return write_tir(self, path, force=force)
 
     def to_chrono_json(self, path, force: bool = False):
-        from ..io.chrono_json import write_chrono_json
-
+        """Write Chrono's PAC89 JSON (:func:`tyrefit.io.chrono_json.write_chrono_json`)."""
         return write_chrono_json(self, path, force=force)
 
     def coefficient_table(self, names=pac89.ALL) -> list[dict]:
