@@ -82,7 +82,8 @@ def test_key_modules_import_with_plain_python_c(name):
 # Edges: ``import a.b.c`` -> a.b.c; ``from P import n`` -> P.n when P.n is a module, else -> P (the module
 # or package that provides n).  The implicit import of a parent package (importing tyrefit.io.tir runs
 # tyrefit/io/__init__.py first) is not an edge: a package's __init__ importing its own submodules is the
-# normal layout, and ``from . import sibling`` depends on the sibling only.
+# normal layout, and ``from . import sibling`` depends on the sibling only.  Imports under ``if TYPE_CHECKING:``
+# count too: the graph is the dependency graph of the design, not only what runs at import time.
 
 _ROOT = Path(tyrefit.__file__).resolve().parent
 
