@@ -296,6 +296,22 @@ def test_channel_of_pure_noise_is_not_fitted():
     assert "Mx" in real.stages and real.stats["mx"]["fitted"] and real.stats["mx"]["r2"] > 0.95
 
 
+def test_no_coefficient_sits_at_a_bound_silently(full_fit, tmp_path):
+    # the generating tyre's data: nothing at a bound, every channel at its noise floor -> no warning
+    assert full_fit[1].warnings == []
+    # a curve the bounds cannot reach (PCY1 = 3.6 > 3) ends at the bound: said in the result and the .tir header,
+    # with the RMSE above 1.5 x the noise floor it leaves
+    design = dict(pressures=[260e3], cambers_deg=[0.0], slip_angles_deg=(), n_points=41,
+                  loads=[3000.0, 6000.0, 9000.0], combined=False)
+    r = fit_mf(gen.make_sweeps(dict(gen.published_mf61(), PCY1=3.6), seed=24, **design), tyre_info=INFO,
+               stages=["Fy0"])
+    assert r.params["PCY1"] == pytest.approx(3.0, rel=1e-6)
+    assert any(w.startswith("PCY1 = 3 is at its upper bound 3 (stage Fy0)") for w in r.warnings), r.warnings
+    assert any(w.startswith("FY: RMSE") and "x the noise floor" in w for w in r.warnings), r.warnings
+    head = "\n".join(read_tyre(r.write_tir(tmp_path / "b.tir")).header)
+    assert "WARNING: PCY1 = 3 is at its upper bound" in head and "WARNING: FY: RMSE" in head
+
+
 def test_mx_sine_term_fitted_from_two_loads():
     # the bundled TTC-style pair has 2 loads: holding QSX4-QSX9 there (old rule: >= 3 loads and 2 cambers)
     # left Mx at 5.3 x its noise floor; the sine term along Fy needs cornering sweeps, only its load factor 3 loads

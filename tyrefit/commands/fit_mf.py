@@ -142,6 +142,8 @@ def run_mf(args, out: Path, datas) -> int:
     held = sorted(result.not_identifiable)
     if held:
         print(f"  held (not identifiable from these data, {len(held)}): " + ", ".join(held))
+    for w in result.warnings:
+        print(f"  warning: {w}")
     for n in result.notes:
         print(f"  note: {n}")
     ph = getattr(result, "placeholders", [])

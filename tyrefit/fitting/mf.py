@@ -1216,12 +1216,37 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
         if not c["holds"]:
             notes.append(f"{stage.name}: constraint {c['constraint']} broken on the grid of the fitted range "
                          f"(worst {c['worst']:.3g})")
-    for j, k in enumerate(prob.vary):
-        for b, side in ((prob.lb[j], "lower"), (prob.ub[j], "upper")):
-            if np.isfinite(b) and abs(th[j] - b) <= 1e-6 * max(1.0, abs(b)):
-                notes.append(f"{stage.name}: {k} ended at its {side} bound {b:g}")
     return StageFit(stage.name, stage.channel, want, why, init, facts, prob.objective(th), nfev,
                     time.perf_counter() - t0, log, est, stderr, cons, len(pts), len(sw))
+
+
+def _bounds_of(name: str, p: Mapping[str, float]) -> tuple[float, float]:
+    """The bounds a stage and the joint polish give coefficient ``name`` (PKY1: the data's orientation)."""
+    lo, hi = _BOUNDS.get(name, (-np.inf, np.inf))
+    if name == "PKY1":
+        lo, hi = (lo, -1e-3) if p.get("PKY1", -1.0) < 0 else (1e-3, hi)
+    return lo, hi
+
+
+def _bound_warnings(p: Mapping[str, float], fits: Mapping[str, StageFit]) -> list[str]:
+    """Fitted coefficients that end at a bound in the final set (after every stage and the joint polish).
+
+    A coefficient held there by its bound is a constrained fit: its standard error means nothing and the
+    shape it sets may be wrong (as :func:`tyrefit.fitting.result._fit_warnings` says for PAC89).
+    """
+    last: dict[str, str] = {}
+    for name, f in fits.items():  # stage order: the last stage that varied a coefficient set its value
+        for k in f.varied:
+            last[k] = name
+    out = []
+    for k, stage in last.items():
+        lo, hi = _bounds_of(k, p)
+        v = float(p[k])
+        for b, side in ((lo, "lower"), (hi, "upper")):
+            if np.isfinite(b) and abs(v - b) <= 1e-6 * max(1.0, abs(b)):
+                out.append(f"{k} = {v:.4g} is at its {side} bound {b:g} (stage {stage}): the fit is constrained "
+                           "there, its standard error means nothing and the shape it sets may be wrong")
+    return out
 
 
 #: stages whose coefficients the joint polish varies, and the channels it fits
@@ -1277,11 +1302,8 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
         blocks.append((c, m, y[m], w))
     pens = [_Problem(_STAGE[st], data.subset(_STAGE[st].sweeps, _STAGE[st].channel), p, [], nominal, version, "l2",
                      1.0, p.get("PKY1", -1.0)) for st in ("Fx0", "Fy0", "Fx", "Fy") if st in fits and fits[st].varied]
-    lb = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[0] for k in vary], float)
-    ub = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[1] for k in vary], float)
-    if "PKY1" in vary:
-        j = vary.index("PKY1")
-        lb[j], ub[j] = ((lb[j], -1e-3) if p["PKY1"] < 0 else (1e-3, ub[j]))
+    lb = np.array([_bounds_of(k, p)[0] for k in vary], float)
+    ub = np.array([_bounds_of(k, p)[1] for k in vary], float)
     kw = {"version": version}
     nfev = [0]
 
@@ -1468,7 +1490,8 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
     if "Fy0" in fits and fits["Fy0"].varied:
         _check_orientation(data, p, version)
     return FitResultMF.build(p, fits, data, model=model, version=version, cost=cost, notes=notes,
-                             tyre_info=dict(tyre_info or {}), seconds=time.perf_counter() - t0, effects=effects)
+                             tyre_info=dict(tyre_info or {}), seconds=time.perf_counter() - t0, effects=effects,
+                             warnings=_bound_warnings(p, fits))
 
 
 def _check_orientation(data: MFData, p, version) -> None:

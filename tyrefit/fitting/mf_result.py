@@ -41,7 +41,7 @@ from .. import __version__
 from ..models import mf61
 from .initial import load_levels
 from .mf_stages import STAGES
-from .result import noise_floor_of
+from .result import FLOOR_RATIO_WARN, noise_floor_of
 
 __all__ = ["FitResultMF"]
 
@@ -97,6 +97,10 @@ class FitResultMF:
         coefficient -> reason it was held.
     fitted : list of str
     notes : list of str
+    warnings : list of str
+        fit-quality warnings, as PAC89's (:func:`tyrefit.fitting.result._fit_warnings`): a fitted
+        coefficient at a bound in the final set, a fitted channel's RMSE above FLOOR_RATIO_WARN x its
+        noise floor; written into the .tir header as ``WARNING:`` lines, printed by ``fit``.
     """
 
     params: dict
@@ -113,10 +117,11 @@ class FitResultMF:
     tyre_info: dict = field(default_factory=dict)
     seconds: float = 0.0
     effects: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
 
     # ------------------------------------------------------------------ building
     @classmethod
-    def build(cls, p, fits, data, *, model, version, cost, notes, tyre_info, seconds, effects=None):
+    def build(cls, p, fits, data, *, model, version, cost, notes, tyre_info, seconds, effects=None, warnings=()):
         mf = mf61
         df = data.df
         kw = {"version": version} if version != "6.1" else {}
@@ -154,9 +159,16 @@ class FitResultMF:
             for k, why in f.held.items():
                 held.setdefault(k, why)
         cells = _cells(df)
+        warns = list(warnings)
+        for c, s in stats.items():
+            nf = s["noise_floor"]
+            if s["fitted"] and np.isfinite(nf) and nf > 0 and s["rmse"] > FLOOR_RATIO_WARN * nf:
+                warns.append(f"{c.upper()}: RMSE {s['rmse']:.4g} {s['unit']} is {s['rmse'] / nf:.1f} x the noise "
+                             f"floor {nf:.3g} {s['unit']}: the model does not reach the noise (structure left in "
+                             "the residuals; see the error per condition cell)")
         return cls(params=dict(p), model=model, version=version, cost=cost, stages=fits, data=data, stats=stats,
                    cells=cells, not_identifiable=held, fitted=fitted, notes=list(dict.fromkeys(notes)),
-                   tyre_info=dict(tyre_info), seconds=float(seconds), effects=list(effects or []))
+                   tyre_info=dict(tyre_info), seconds=float(seconds), effects=list(effects or []), warnings=warns)
 
     # ------------------------------------------------------------------ numbers
     @property
@@ -191,6 +203,7 @@ class FitResultMF:
                          f"floor {s['noise_floor']:.3g}){'' if s['fitted'] else ' - not fitted'}")
         if self.effects:
             lines.append("Fy0 effects: " + ", ".join(self.effects))
+        lines += [f"WARNING: {w}" for w in self.warnings]
         lines += [str(x) for x in (self.tyre_info or {}).get("header", ())]  # design data: origin of each value
         return lines
 
@@ -381,6 +394,9 @@ class FitResultMF:
         if cons:
             r.h3("Physical constraints over the fitted range (grid of load, pressure, camber, slip sign)")
             r.table(cons)
+        if self.warnings:
+            r.h3("Warnings")
+            r.bullets(self.warnings)
         if self.notes:
             r.h3("Notes")
             r.bullets(self.notes)
