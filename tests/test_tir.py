@@ -229,7 +229,10 @@ def test_inspect_json_declared_format_and_family(tmp_path, name, fmt, family):
     assert doc["kind"] == "tyre" and doc["format"] == fmt and doc["family"] == family
     assert doc["missing"] == [] and doc["problems"] == []
     if family == "PAC89":
-        assert "clamps camber to +/-3 deg" in doc["chrono_limits"]
+        note = doc["chrono_limits"]  # every difference of ChPac89Tire::Advance that the Pac89Tyre docstring lists
+        for said in ("clamps camber to +/-3 deg", "slip ratio to +/-1", "Fx*Fy/k_lat to Mz", "Mx = -Fz*Fy/k_lat",
+                     "mu/0.8", "+/-89.5 deg"):
+            assert said in note, said
 
 
 def test_devices_and_folders_are_refused_not_read(tmp_path):

@@ -28,6 +28,7 @@ from ..errors import FormatError, ModelError
 from ..io.outputs import check_output, write_text
 from ..io.readers import (KINDS, Dataset, condition_levels, lateral_slope, plausibility_problems, read_data,
                           sniff_format)
+from ..tyres.pac89 import CHRONO_LIMITS
 
 __all__ = ["run", "inspect_file", "inspect_data", "inspect_tyre", "format_summary"]
 
@@ -89,9 +90,12 @@ def _dimensions(pf) -> dict[str, float]:
 
 
 #: said of every PAC89 tyre (Chrono's ChPac89Tire limits; see :class:`tyrefit.tyres.pac89.Pac89Tyre`)
-CHRONO_NOTE = ("Chrono's ChPac89Tire clamps camber to +/-3 deg (default m_gamma_limit) and slip ratio to +/-1, and "
-               "adds Fx*Fy/k_lat to Mz (ChPac89Tire.cpp, Advance); tyrefit evaluates PAC89 without those limits, so "
-               "the two agree only inside them and where Fx*Fy/k_lat is small")
+CHRONO_NOTE = (f"Chrono's ChPac89Tire clamps camber to +/-{CHRONO_LIMITS['camber_deg']:g} deg (default m_gamma_limit) "
+               f"and slip ratio to +/-{CHRONO_LIMITS['slip_ratio']:g}, adds Fx*Fy/k_lat to Mz, sets Mx = -Fz*Fy/k_lat "
+               "(k_lat: lateral stiffness) and scales Fx, Fy, Mz by the road's mu/0.8 (ChPac89Tire.cpp, Advance); "
+               "tyrefit evaluates PAC89 without those clamps and terms (it shares only the clamp of the shifted slip "
+               f"angle to +/-{CHRONO_LIMITS['shifted_slip_angle_deg']:g} deg), so the two agree only inside the clamps, "
+               "on a mu = 0.8 road and where Fx*Fy/k_lat is small")
 
 
 def _tyre_model(tyre) -> dict[str, Any]:
