@@ -176,6 +176,15 @@ def test_cli_fits_one_tyre_to_two_ttc_files(ttc_pair, tmp_path, capsys):
     assert "data:image/png;base64" in html and "condition cell" in html and "Kamm" in html
 
 
+def test_cli_says_which_channels_are_not_fitted(ttc_pair, tmp_path, capsys):
+    # a cornering record measures FX (R^2 < 0 against the model's pure-cornering Fx): reported, marked not fitted
+    assert main(["fit", str(ttc_pair[0]), "--convention", "sae", "--model", "mf61", "--out",
+                 str(tmp_path / "c.tir")]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    chans = {c.split(" RMSE")[0].strip(): c for c in first.split(": ", 1)[1].split("), ")}
+    assert "not fitted" in chans["FX"] and "not fitted" not in chans["FY"] and "not fitted" not in chans["MZ"]
+
+
 def test_cli_rejects_several_files_for_pac89_and_pac89_flags_for_mf(ttc_pair, tmp_path, capsys):
     out = tmp_path / "x.tir"
     assert main(["fit", *map(str, ttc_pair), "--convention", "sae", "--out", str(out)]) == 2

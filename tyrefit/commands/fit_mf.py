@@ -132,7 +132,8 @@ def run_mf(args, out: Path, datas) -> int:
     if getattr(args, "report", None):
         _report(result, start, args, out, datas)
     parts = ", ".join(f"{c.upper()} RMSE {s['rmse']:.4g} {s['unit']} (R² {s['r2']:.4f}, noise floor "
-                      f"{s['noise_floor']:.3g} {s['unit']})" for c, s in result.stats.items())
+                      f"{s['noise_floor']:.3g} {s['unit']}{'' if s.get('fitted', True) else '; not fitted'})"
+                      for c, s in result.stats.items())
     print(f"wrote {out} (MF {result.version}, {len(result.fitted)} coefficients fitted from {len(datas)} file(s)): "
           f"{parts}")
     if start is not None:
