@@ -28,10 +28,14 @@ from tyrefit.nomenclature import G0
 from tyrefit.io.outputs import staged_dir, write_text
 from tyrefit.io.readers import read_data
 from tyrefit.rig.study import sttr_vs_dttr
+from tyrefit.tyres.size import complete_design, parse_size
 
 
 #: the tyres' rated load (load index on the sidewall, seed 003: 4250 kg), FNOMIN of the .tir
 RATED_LOAD_KG = 4250.0
+#: the bundled truck tyres' size (data/truck/README.md): radius and width for the Chrono JSON, which also needs
+#: mass, inertia and damping (estimated from the size as ``tyrefit fit --size`` does, said in the header)
+SIZE = "385/65R22.5"
 
 
 def main(out_dir="reports/sttr_vs_dttr", force: bool = False) -> dict:
@@ -48,6 +52,7 @@ def main(out_dir="reports/sttr_vs_dttr", force: bool = False) -> dict:
     with staged_dir(out_dir, force=force) as tmp:
         study.calibration.to_json(tmp / "RIG.json")
         for key, fit in study.fits.items():
+            complete_design(fit.tyre, parse_size(SIZE), RATED_LOAD_KG * G0)
             fit.tyre.to_tir(tmp / f"tyre_b_{key}.tir")
             fit.tyre.to_chrono_json(tmp / f"tyre_b_{key}.json")
         for key, cmp in study.comparisons.items():
