@@ -96,10 +96,11 @@ def test_pressure_rules_two_and_three_levels():
 def test_held_out_pressure_predicted_within_2pct_of_peak():
     df = gen.make_sweeps(seed=2)
     train = df[df["pressure"] != 260e3]
-    r = fit_mf(train, tyre_info=INFO, stages=["Fx0", "Fy0", "Mz0", "Fx", "Fy", "Mz"])
+    r = fit_mf(train, tyre_info=INFO)  # every stage, the joint polish, Mx and My
     assert "PPY4" in r.not_identifiable and "PPX2" in r.not_identifiable  # two pressures: quadratic terms held
     err = recovery_error(r.params, pressures=[260e3])
-    for c in ("fx", "fy", "mz"):
+    # measured on seeds 2-11: worst Fx 1.48, Fy 0.70, Mz 1.54, Mx 0.67, My 0.09 % of peak
+    for c in ("fx", "fy", "mz", "mx", "my"):
         assert err[c] < 2.0, (c, err)
 
 
