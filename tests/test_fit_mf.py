@@ -117,6 +117,31 @@ def test_prepare_gathers_files_and_classifies_sweeps():
     assert len(lv["fz"]) == 1 and len(lv["slip_angle"]) == 3
 
 
+def test_cornering_sweeps_with_a_drifting_slip_ratio_channel_stay_cornering(ttc_pair):
+    # a rig's slip-ratio channel during cornering: an offset and a drift with slip angle (the rolling-radius
+    # estimate; diagnose keeps such sweeps as cornering).  Read as combined slip they left the Fy0/Mz0 stages
+    from tyrefit.io.readers import read_data
+
+    corner, drive = (read_data(f, convention="sae").df for f in ttc_pair)
+    drifted = corner.assign(slip_ratio=corner["slip_ratio"] + 0.025 + 0.3 * corner["slip_angle"].abs())
+    clean, drift = prepare_mf_data([corner, drive]), prepare_mf_data([drifted, drive])
+    kinds = drift.sweeps.groupby(["source", "kind"]).size().to_dict()
+    assert kinds == clean.sweeps.groupby(["source", "kind"]).size().to_dict()
+    assert kinds[("data 1", "lateral")] == clean.sweeps["kind"].eq("lateral").sum() > 0
+    a = fit_mf(clean, tyre_info=INFO, stages=["Fy0"])
+    b = fit_mf(drift, tyre_info=INFO, stages=["Fy0"])
+    assert b.stats["fy"]["rmse"] == pytest.approx(a.stats["fy"]["rmse"], rel=1e-6)
+    # a slip-angle sweep at a held drive slip (kappa = 0.05: |Fx| ~ |Fy|) is combined slip, not cornering
+    p = gen.published_mf61()
+    alpha = np.radians(np.linspace(-12, 12, 41))
+    f = mf61.forces(p, FNOMIN, 0.05, alpha, 0.0, 260e3, 11.1)
+    held = pd.DataFrame({"run": 0, "fz": FNOMIN, "slip_angle": alpha, "slip_ratio": 0.05, "camber": 0.0,
+                         "fx": f["fx"], "fy": f["fy"]})
+    assert prepare_mf_data(held).sweeps["kind"].tolist() == ["combined"]
+    held2 = held.assign(slip_ratio=0.05 + 0.3 * np.abs(alpha))  # swept as well: still combined
+    assert prepare_mf_data(held2).sweeps["kind"].tolist() == ["combined"]
+
+
 def test_effects_map_to_mf61_coefficients():
     vary, notes = effect_coefficients(["load_friction", "pressure", "offsets_constant"])
     assert vary[:5] == list(START_FY0)

@@ -281,6 +281,29 @@ def _span(v: np.ndarray) -> float:
     return float(hi - lo)
 
 
+#: a slip-angle sweep is free rolling when its |Fx| (90th percentile) stays below this fraction of its |Fy|
+FREE_ROLLING_FX = 0.2
+
+
+def _free_rolling(g: pd.DataFrame) -> bool:
+    """A slip-angle sweep whose longitudinal force stays small beside its lateral force: no drive or brake slip.
+
+    A rig's slip-ratio channel during cornering carries an offset and a drift with slip angle (FSAE TTC: the
+    slip ratio is computed from an effective rolling-radius estimate; diagnose keeps such sweeps as cornering,
+    :func:`tyrefit.diagnose.data._slip_ratio_segments`).  Read as combined slip, a 0.025 offset plus 0.3 |alpha|
+    moved the bundled TTC-style pair's cornering sweeps out of the Fy0/Mz0 stages (FX RMSE 1117 N, 7.7 x its
+    floor).  A real drive or brake slip of a few per cent gives |Fx| of the order of |Fy| (slip stiffness
+    K_x ~ 20-30 Fz), so |Fx| small beside |Fy| tells free rolling from a slip-angle sweep at a held slip ratio.
+    """
+    if "fx" not in g or "fy" not in g:
+        return False
+    fx, fy = g["fx"].to_numpy(float), g["fy"].to_numpy(float)
+    fx, fy = fx[np.isfinite(fx)], fy[np.isfinite(fy)]
+    if fx.size < 5 or fy.size < 5:
+        return False
+    return float(np.percentile(np.abs(fx), 90)) < FREE_ROLLING_FX * float(np.percentile(np.abs(fy), 90))
+
+
 def _classify(g: pd.DataFrame) -> str | None:
     sa = g["slip_angle"].to_numpy(float)
     sr = g["slip_ratio"].to_numpy(float)
@@ -289,11 +312,14 @@ def _classify(g: pd.DataFrame) -> str | None:
     sr_med = float(np.nanmedian(sr)) if np.isfinite(sr).any() else 0.0
     if sa_span >= 0.5 * _DEG and sr_span < 0.05:
         # slip-angle sweep; slip-ratio noise of +-0.01 (FSAE TTC) is still pure cornering
-        return "lateral" if abs(sr_med) < 0.02 else "combined"
+        if abs(sr_med) < 0.02 or (sa_span >= 2.0 * _DEG and _free_rolling(g)):
+            return "lateral"
+        return "combined"
     if sr_span >= 0.01 and sa_span < 1.5 * _DEG:
         return "longitudinal" if abs(sa_med) < 0.5 * _DEG else "combined"
     if sr_span >= 0.01 and sa_span >= 0.5 * _DEG:
-        return "combined"
+        # a swept slip angle with a drifting slip-ratio channel and no longitudinal force: free-rolling cornering
+        return "lateral" if sa_span >= 2.0 * _DEG and _free_rolling(g) else "combined"
     return None
 
 
