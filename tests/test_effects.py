@@ -101,7 +101,7 @@ def test_representable_effects_are_the_pac89_coefficients(eid):
 def test_overload_is_a_hinge_at_the_rated_load():
     x = grid()
     v = dict(BASE, overload_mu=0.45)
-    below = x.fz <= x.rated_load
+    below = x.fz <= 0.9 * x.rated_load  # the knee is rounded over +-10 % of the rated load
     base = lateral_force(BASE, [], x)
     ov = lateral_force(v, ["overload"], x)
     np.testing.assert_array_equal(ov[below], base[below])
@@ -113,6 +113,13 @@ def test_overload_is_a_hinge_at_the_rated_load():
                               x.fz, x.slip_angle, x.camber)
     np.testing.assert_allclose(ov, ref, rtol=0, atol=1e-9)
     assert overload_factor(9000.0, 6000.0, 0.45) == pytest.approx(1 - 0.45 * 0.5)
+    # the rounded knee: C1 at both ends of the blend, a quarter of the blend width at the rated load
+    w = 600.0
+    assert overload_factor(6000.0, 6000.0, 1.0) == pytest.approx(1 - (w / 4) / 6000.0)
+    for f0 in (5400.0, 6600.0):
+        lo, hi = overload_factor(np.array([f0 - 1e-3, f0 + 1e-3]), 6000.0, 1.0)
+        d = (hi - lo) / 2e-3
+        assert d == pytest.approx(0.0 if f0 < 6000 else -1 / 6000.0, abs=1e-8)
 
 
 def test_pressure_scales_cornering_stiffness_and_peak():

@@ -59,7 +59,7 @@ import numpy as np
 
 from ..errors import DataError, close_matches
 from .base import DataSummary, Effect, ModelInputs, Param, PhysicsCard
-from .model import overload_factor, relative_factor
+from .factors import overload_factor, relative_factor
 
 __all__ = ["BASE", "BASE_NAMES", "EFFECTS", "FAMILIES", "get_effect", "parse_effects", "resolve_pac89",
            "brush_camber_fade"]
@@ -256,7 +256,7 @@ _A11 = Param("a11", 0.0, (-1000.0, 1000.0), (-40.0, 40.0), "N/(kN deg)", 10.0,
 _A12 = Param("a12", 0.0, (-1000.0, 1000.0), (-30.0, 30.0), "N/kN", 10.0, "vertical shift with load: Sv = a12 Fz")
 _A13 = Param("a13", 0.0, (-5000.0, 5000.0), (-300.0, 300.0), "N", 50.0, "constant vertical shift (residual force)")
 _OV_MU = Param("overload_mu", 0.0, (0.0, 3.0), (0.0, 1.0), "-", 0.3,
-               "friction loss per rated load of overload: D (1 - k max(0, Fz - Fr)/Fr)")
+               "friction loss per rated load of overload: D (1 - k h(Fz - Fr)/Fr), h a hinge rounded over +-10 % of Fr")
 _OV_KY = Param("overload_ky", 0.0, (-1.0, 3.0), (0.0, 1.0), "-", 0.3,
                "cornering-stiffness loss per rated load of overload")
 _CB_K = Param("camber_brush_k", 0.0, (-200.0, 200.0), (0.0, 30.0), "N/(kN^1.5 deg)", 5.0,

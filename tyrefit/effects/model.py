@@ -21,44 +21,13 @@ import numpy as np
 
 from ..models import pac89
 from .base import Effect, ModelInputs
+from .catalogue import get_effect
+from .factors import KNEE_HALF_WIDTH, overload_factor, relative_factor  # noqa: F401  (public here too)
 
 __all__ = ["coefficients", "lateral_force", "overload_factor", "relative_factor"]
 
 
-def overload_factor(fz, rated_load: float, k):
-    """Multiplier 1 - k max(0, Fz - Fr)/Fr on a factor above the rated load Fr.
-
-    Parameters
-    ----------
-    fz : array_like
-        Normal load [N].
-    rated_load : float
-        Rated (maximum) load of the tyre Fr [N].
-    k : array_like
-        Fractional loss per rated load of overload [-]; 0 is neutral.
-
-    Notes
-    -----
-    A hinge at the rated load: grip is unchanged up to Fr and falls linearly
-    above it, the behaviour Komana et al. (seed 003, Sec. 4.2) report for a
-    truck tyre above its 4250 kg rating.  Exactly 1.0 when ``k == 0``.
-    """
-    return 1.0 - k * np.maximum(np.asarray(fz, dtype=float) - rated_load, 0.0) / rated_load
-
-
-def relative_factor(value, reference: float, k):
-    """Multiplier 1 + k (v - v_ref)/v_ref (pressure or speed sensitivity).
-
-    ``k`` is the relative change of the factor per relative change of the
-    condition (an elasticity at the reference), as MF 6.1's PPY1/PPY3 are per
-    dpi = (p - p0)/p0.  Exactly 1.0 when ``k == 0``.
-    """
-    return 1.0 + k * (np.asarray(value, dtype=float) - reference) / reference
-
-
 def _resolve(effects: Iterable[Effect | str]) -> list[Effect]:
-    from .catalogue import get_effect
-
     return [e if isinstance(e, Effect) else get_effect(e) for e in effects]
 
 
