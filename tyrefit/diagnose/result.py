@@ -13,7 +13,7 @@ import pandas as pd
 from ..effects import EFFECTS, get_effect, resolve_pac89
 from .advice import advice_lines, needs_model
 from .data import SweepData
-from .engine import Candidate, Settings, Step
+from .steps import Candidate, Settings, Step
 
 __all__ = ["Diagnosis"]
 

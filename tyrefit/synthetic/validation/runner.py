@@ -228,6 +228,9 @@ def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_
            # held-out against in-sample RMSE of the start model on the same (interpolated) sweeps: > 1 when the
            # held-out predictions really come from fits without the sweep (the ``insample`` mutation gives 1)
            "heldout_over_insample": _heldout_over_insample(dg.steps[0]),
+           # per step (start first): held-out RMSE on whole sweeps and on held-out interior levels [N]
+           "step_heldout": [float(st.rmse_heldout) for st in dg.steps],
+           "step_levelout": [_finite(st.rmse_levelout) for st in dg.steps],
            "seconds": time.perf_counter() - t0}
     if effect is None:
         row["false_alarm"] = bool(acc)
@@ -240,6 +243,10 @@ def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_
         # the right answer where the layout cannot identify the effect (shifts on one-sided sweeps)
         row["said_untestable"] = bool(why) and all(str(c.status).startswith("not testable") for c in why)
     return row
+
+
+def _finite(x) -> float | None:
+    return float(x) if np.isfinite(x) else None
 
 
 def _heldout_over_insample(step) -> float:
