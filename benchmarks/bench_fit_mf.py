@@ -25,6 +25,13 @@ Measured (one thread of BLAS, :func:`tyrefit.fitting._blas.single_threaded_blas`
   the row says which stop it was and the best cost reached.  Wall and CPU
   seconds of both, and the load average, are recorded (the machine is shared).
 
+Measured on the shared 2-core machine (2026-11-26, commit 0f28fa1 and its parent fits): the staged fit
+21-23 s CPU, 24 s wall at load average 1.4 and 42-46 s wall at 3-5 (the other processes take the
+second core and half of ours).  The baseline, run with ``TYREFIT_BENCH_FD_BUDGET=5400`` and stopped
+by hand after 2961 s wall (1796 s CPU, 46 000 residual evaluations): best cost 1.135 x the staged
+fit's, flat since about 1600 s (1.136 then) - it had not reached equal RMSE, so the ratio is at least
+80 x in CPU seconds.
+
 ``python -m benchmarks.bench_fit_mf`` prints the dict.
 """
 
