@@ -180,3 +180,31 @@ def test_mf52_file_round_trip(tmp_path):
     for ch in want:
         np.testing.assert_array_equal(got[ch], want[ch])
         np.testing.assert_array_equal(via_reader[ch], want[ch])
+
+
+def test_lmuv_written_in_scaling_section_neutral_zero_and_read_back(tmp_path):
+    """LMUV (friction decay with slip speed, 4.E7) is a scaling factor whose neutral value is 0, not 1: written
+    in [SCALING_COEFFICIENTS] (0 when not given, and the header says so), a fitted value read back as the
+    same float and evaluated the same by the project reader, at a speed away from LONGVL."""
+    from tyrefit.io.tir import read_tyre
+
+    text = format_mf_tir(mf61.neutral())
+    _, sections = _parse(text)
+    assert sections["SCALING_COEFFICIENTS"]["LMUV"] == "0"
+    assert "LMUV 0: no friction decay with slip speed" in text
+    p = dict(_mfeval_example(), LMUV=0.2718281828459045)
+    path = write_mf_tir(p, tmp_path / "t.tir")
+    _, sections = _parse(path.read_text())
+    assert float(sections["SCALING_COEFFICIENTS"]["LMUV"]) == p["LMUV"]
+    head = re.sub(r"\n\$ {4,}", " ", path.read_text())  # header continuation lines joined
+    assert not any("DEFAULTS [SCALING_COEFFICIENTS]" in ln and "LMUV" in ln for ln in head.splitlines())
+    tyre = read_tyre(path)
+    assert tyre.params["LMUV"] == p["LMUV"]
+    k = np.linspace(-0.4, 0.4, 9)[:, None]
+    a = np.radians(np.linspace(-12, 12, 7))
+    got = tyre.forces(6752.0, slip_angle=a, slip_ratio=k, camber=0.0, pressure=260000.0, speed=30.0)
+    want = mf61.forces(p, 6752.0, k, a, 0.0, 260000.0, 30.0)
+    slow = mf61.forces(dict(p, LMUV=0.0), 6752.0, k, a, 0.0, 260000.0, 30.0)
+    for ch in ("fx", "fy", "mz"):
+        np.testing.assert_array_equal(got[ch], want[ch])
+    assert np.max(np.abs(want["fx"] - slow["fx"])) > 0.05 * np.max(np.abs(slow["fx"]))  # LMUV acts at 30 m/s

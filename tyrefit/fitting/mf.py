@@ -8,8 +8,8 @@ uses, each on the sweeps that carry its information:
 ========  =====================================  ====================================
 stage     sweeps                                  coefficients (MF 6.1 names)
 ========  =====================================  ====================================
-Fx0       slip-ratio sweeps at slip angle ~ 0     PCX1, PDX*, PEX*, PKX*, PHX*, PVX*, PPX*
-Fy0       slip-angle sweeps at slip ratio ~ 0     PCY1, PDY*, PEY*, PKY*, PHY*, PVY*, PPY*
+Fx0       slip-ratio sweeps at slip angle ~ 0     PCX1, PDX*, PEX*, PKX*, PHX*, PVX*, PPX*, LMUV
+Fy0       slip-angle sweeps at slip ratio ~ 0     PCY1, PDY*, PEY*, PKY*, PHY*, PVY*, PPY*, LMUV
 Mz0       slip-angle sweeps at slip ratio ~ 0     QBZ*, QCZ1, QDZ*, QEZ*, QHZ*, PPZ*
 Fx        combined sweeps (kappa at alpha != 0)   RBX*, RCX1, REX*, RHX1
 Fy        combined sweeps                         RBY*, RCY1, REY*, RHY*, RVY*
@@ -110,8 +110,19 @@ listed with the reason.  Counts are taken over the sweeps of the stage:
 * combined slip needs combined sweeps; RBY3 and RVY4 >= 2 slip-angle levels;
 * Mx: the Fy terms (QSX3, QSX13) and the sine term along Fy (QSX4, QSX8,
   QSX9) need cornering sweeps; its load factor (QSX5, QSX6) >= 3 loads;
-* speed: QSY3/QSY4 need >= 2/3 speeds (MF 6.1 has no other speed coefficient;
-  its friction-speed law is the scaling factor LMUV, which is not fitted);
+* speed: QSY3/QSY4 need >= 2/3 speeds; LMUV, MF 6.1's only speed term in the
+  forces (the scaling factor of friction decay with slip speed, 4.E7:
+  mu* = LMU / (1 + LMUV Vs/V0), Vs = Vcx sqrt(kappa^2 + tan^2 alpha), V0 =
+  LONGVL), needs >= 2 speeds *and* sweeps through the peak: at one speed the
+  fall of mu with Vs is a fall with slip, the curvature E's and the post-peak
+  shape's, and without a peak the friction itself is not measured.  It is one
+  factor on mu_x and mu_y: the Fx0 stage fits it from drive/brake sweeps and
+  the Fy0 stage holds that value (as every stage holds the stages before it;
+  refitted there, Fx would be evaluated with an LMUV it was not fitted with),
+  or fits it from cornering sweeps when Fx0 did not; the joint polish moves it
+  with both channels.  Bounds 0 <= LMUV <= 2 (friction falls with slip
+  speed; 2 halves it at Vs = V0/2).  Only LMUV/V0 is defined by the data: the
+  fit's V0 is LONGVL = the middle speed level;
 * with no sweep reaching its peak the curvature E of that stage is held.
 
 Effects (``fit --effects ... --model mf61``)
@@ -120,7 +131,12 @@ Effects (``fit --effects ... --model mf61``)
 (:mod:`tyrefit.effects.catalogue`) to the MF 6.1 lateral coefficients that
 carry them; the Fy0 stage then varies the start model
 (:data:`START_FY0`: PCY1, PDY1, PKY1, PKY2, PEY1) plus those, so the
-diagnose waterfall continues in the exported tyre.
+diagnose waterfall continues in the exported tyre.  diagnose's ``speed``
+(friction and cornering stiffness against travel speed) maps to LMUV, which
+carries the friction part (through the slip speed); MF 6.1 has no speed term
+on the cornering stiffness.  LMUV, shared with the Fx0 stage, is fitted with
+``--effects`` only when a speed effect is asked for, so the start model's
+tyre carries no speed law.
 
 References
 ----------
@@ -149,8 +165,8 @@ from ._blas import single_threaded_blas
 from .core import Parameters, covariance, solve
 from .core import objective as core_objective
 from .mf_result import FitResultMF, _noise_floor
-from .mf_stages import (FX0, FXC, FY0, FYC, MX, MX_LINEAR, MY, MZ0, MZC, STAGES, _ONLY_61,  # noqa: F401
-                        _STAGE, Stage)
+from .mf_stages import (FX0, FXC, FY0, FYC, MX, MX_LINEAR, MY, MZ0, MZC, SPEED_FRICTION, STAGES,  # noqa: F401
+                        _ONLY_61, _STAGE, Stage)
 
 __all__ = ["fit_mf", "prepare_mf_data", "identifiability", "MFData", "FitResultMF", "STAGES",
            "EFFECT_COEFFICIENTS", "START_FY0", "effect_coefficients"]
@@ -184,11 +200,14 @@ EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
     "pressure": ("PPY1", "PPY2", "PPY3", "PPY4"),
     "pressure_stiffness": ("PPY1", "PPY2"),
     "pressure_grip": ("PPY3", "PPY4"),
-    "speed": (),
+    # MF 6.1's one speed term in Fx/Fy: friction decay with slip speed (4.E7), on mu_x and mu_y
+    "speed": SPEED_FRICTION,
 }
 _EFFECT_NOTES = {
-    "speed": "speed: MF 6.1 carries speed in Fx/Fy only through the scaling factor LMUV (friction decay with slip "
-             "speed), which a fit does not set; QSY3/QSY4 (rolling resistance) are fitted where My is measured",
+    "speed": "speed: MF 6.1 carries speed in Fx/Fy through the scaling factor LMUV (friction decay with slip speed, "
+             "mu / (1 + LMUV Vs/LONGVL), Pacejka 4.E7), fitted from >= 2 speeds with sweeps through the peak; the "
+             "change of cornering stiffness with speed has no MF 6.1 term and is not carried; QSY3/QSY4 (rolling "
+             "resistance) are fitted where My is measured",
     "load_friction_curved": "load_friction_curved: MF 6.1 friction is linear in load (PDY2); the curvature of the "
                             "friction-load law is not carried, PDY2 takes the trend over the fitted range",
     "overload": "overload: MF 6.1 friction is linear in load (PDY2); a fall beyond the rated load is absorbed by "
@@ -492,7 +511,8 @@ def condition_levels(sweeps: pd.DataFrame) -> dict[str, list[float]]:
 
 # --------------------------------------------------------------------- identifiability
 def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame, *,
-                    any_peak: bool = True, version: str = "6.1") -> tuple[dict[str, str], dict]:
+                    any_peak: bool = True, version: str = "6.1",
+                    peak_runs: Sequence | None = None) -> tuple[dict[str, str], dict]:
     """Coefficients of ``stage`` the data cannot determine, with the reason.
 
     Parameters
@@ -504,6 +524,9 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
         the stage's sweeps (rows of :attr:`MFData.sweeps`).
     any_peak : bool
         some sweep of a pure-slip stage reaches its peak (else E is held).
+    peak_runs : sequence, optional
+        the runs whose sweep reaches its peak (Eq. 2-4); LMUV needs >= 2 speed levels among them.
+        None: every sweep counts when ``any_peak``.
 
     Returns
     -------
@@ -577,6 +600,19 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
     # speed
     need(["QSY3"], n_v >= 2, f"needs >= 2 speeds (data: {n_v})")
     need(["QSY4"], n_v >= 3, f"needs >= 3 speeds (data: {n_v})")
+    # LMUV: friction decay with slip speed Vs (4.E7).  At one speed Vs grows with the slip alone, so the decay is
+    # one more shape term beside the curvature E and the fall past the peak; the speed levels tell it apart.  It
+    # scales the peak friction: sweeps that reach no peak do not measure it
+    sp = ", ".join(f"{v:.3g}" for v in lv["speed"]) or "none given"
+    need(["LMUV"], n_v >= 2, f"needs >= 2 speeds: at one speed friction decay with slip speed (4.E7) is a fall "
+         f"with slip, which the curvature E and the post-peak shape carry (data: {n_v} speed level(s) [m/s]: {sp})")
+    if peak_runs is None:
+        n_vp = n_v if any_peak else 0
+    else:
+        n_vp = len(_levels(sweeps.loc[sweeps["run"].isin(list(peak_runs)), "speed"], 2.0 / 3.6))
+    facts["speed_levels_through_peak"] = n_vp
+    need(["LMUV"], n_vp >= 2, f"needs sweeps through the peak at >= 2 speeds: LMUV scales the peak friction, which "
+         f"sweeps short of their peak do not measure (data: sweeps through the peak at {n_vp} speed level(s))")
     # shifts and asymmetry
     if st.name in ("Fx0", "Fy0", "Mz0"):
         need(["PHX1", "PVX1", "PHX2", "PVX2", "PEX4", "PHY1", "PVY1", "PHY2", "PVY2", "PEY3", "PEY4",
@@ -776,7 +812,9 @@ _BOUNDS = {"PCX1": (0.3, 3.0), "PCY1": (0.3, 3.0), "QCZ1": (0.3, 5.0), "RCX1": (
            "PEX1": (-30.0, 1.0), "PEY1": (-30.0, 1.0), "REX1": (-30.0, 1.0), "REY1": (-30.0, 1.0),
            "PDX1": (0.02, 6.0), "PDY1": (0.02, 6.0), "PKY4": (0.3, 5.0), "PKY2": (0.05, 50.0),
            "RBX1": (0.0, 500.0), "RBY1": (0.0, 500.0), "QBZ1": (0.0, 200.0), "PKX1": (0.0, 500.0),
-           "PEX4": (-1.0, 1.0), "PEY3": (-1.0, 1.0)}
+           "PEX4": (-1.0, 1.0), "PEY3": (-1.0, 1.0),
+           # friction falls with slip speed (4.E7); 2 halves mu at Vs = LONGVL/2, beyond any rubber on a dry road
+           "LMUV": (0.0, 2.0)}
 
 
 def _typical_step(name: str) -> float:
@@ -931,6 +969,10 @@ def _initial_pure(stage: Stage, pts: pd.DataFrame, nominal: Mapping[str, float],
     mu0 = max(float(c_mu[0]), 0.05)
     slope = est["BCD"].to_numpy(float) * scale  # d(mu)/d(slip) per rad or per unit kappa, >= 0
     out: dict[str, float] = {}
+    if "LMUV" not in why:
+        lmuv = _initial_lmuv(pts, est, D, cols, nominal, lateral, scale)
+        if lmuv is not None:
+            out["LMUV"] = lmuv
     if lateral:
         # K_y = PKY1 Fz0 sin(PKY4 atan(Fz / (PKY2 Fz0))) with PKY4 = 2 (4.E25); linear LS in PKY1 per PKY2
         ky = slope * est["fz"].to_numpy(float)
@@ -952,6 +994,29 @@ def _initial_pure(stage: Stage, pts: pd.DataFrame, nominal: Mapping[str, float],
                    PKX1=max(float(c_k[0]), 1.0), PKX2=float(c_k[1]) if "PKX2" not in why else 0.0,
                    PPX1=float(c_k[2] / max(c_k[0], 1.0)) if "PPX1" not in why else 0.0)
     return out, est, bool(est["has_peak"].any())
+
+
+def _initial_lmuv(pts, est, D, cols, nominal, lateral: bool, scale: float) -> float | None:
+    """LMUV from the peak friction D of the sweeps through their peak against their slip speed there.
+
+    D = mu(dfz, dpi) / (1 + LMUV Vs/V0) (4.E7) with Vs = V |kappa_m| (drive/brake) or V |tan alpha_m|
+    (cornering) at the slip of the peak; to first order D = mu0 + ... - mu0 LMUV Vs/V0, a linear regression
+    over the sweeps (the load and pressure columns as for PDX1/PDY1).  None when it cannot be formed.
+    """
+    v0 = float(nominal.get("LONGVL") or 0.0)
+    if not v0 > 0 or "x_m" not in est:
+        return None
+    sp = pts.groupby("run")["speed"].mean()
+    v = est["run"].map(sp).to_numpy(float)
+    xm = np.abs(est["x_m"].to_numpy(float)) / scale
+    vs = v * (np.tan(xm) if lateral else xm) / v0
+    ok = est["has_peak"].to_numpy(bool) & np.isfinite(vs) & np.isfinite(D)
+    if ok.sum() < 3 or np.ptp(vs[ok]) <= 1e-3:
+        return None
+    c = _regress(D[ok], [cc[ok] for cc in cols] + [vs[ok]])
+    if not c[0] > 0:
+        return None
+    return float(np.clip(-c[-1] / c[0], 0.0, 1.5))
 
 
 def _orientation(pts, slip, force) -> float:
@@ -1151,7 +1216,7 @@ class StageFit:
 
 def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Sequence[str] | None,
                nominal: Mapping[str, float], version: str, cost: str, notes: list[str],
-               multistart: bool = True) -> StageFit | None:
+               multistart: bool = True, hold: Sequence[str] = ()) -> StageFit | None:
     t0 = time.perf_counter()
     pts = data.subset(stage.sweeps, stage.channel)
     runs = pts["run"].unique()
@@ -1174,7 +1239,9 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     if stage.name == "Mz*":  # the joint polish varies what the Mz0 and Mz stages found identifiable
         why, facts = {}, {"points": int(len(pts)), "sweeps": int(len(sw))}
     else:
-        why, facts = identifiability(stage, pts, sw, any_peak=any_peak, version=version)
+        peak_runs = est.loc[est["has_peak"].astype(bool), "run"].tolist() \
+            if stage.name in ("Fx0", "Fy0") and len(est) and "has_peak" in est else None
+        why, facts = identifiability(stage, pts, sw, any_peak=any_peak, version=version, peak_runs=peak_runs)
     names = [k for k in stage.names if k in _known_names()]
     want = [k for k in names if k not in why]
     if vary_only is not None:
@@ -1183,6 +1250,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
             notes.append(f"{stage.name}: {', '.join(asked_held)} asked for but not identifiable from these data; "
                          "held")
         want = [k for k in want if k in set(vary_only)]
+    want = [k for k in want if k not in hold]  # held by the caller without a note (LMUV outside --effects speed)
     base = dict(p)
     for k in names:
         if k in init and (k in want or k in stage.core):
@@ -1254,11 +1322,13 @@ def _bounds_of(name: str, p: Mapping[str, float]) -> tuple[float, float]:
     return lo, hi
 
 
-def _bound_warnings(p: Mapping[str, float], fits: Mapping[str, StageFit]) -> list[str]:
+def _bound_warnings(p: Mapping[str, float], fits: Mapping[str, StageFit], notes: list[str] | None = None) -> list[str]:
     """Fitted coefficients that end at a bound in the final set (after every stage and the joint polish).
 
     A coefficient held there by its bound is a constrained fit: its standard error means nothing and the
-    shape it sets may be wrong (as :func:`tyrefit.fitting.result._fit_warnings` says for PAC89).
+    shape it sets may be wrong (as :func:`tyrefit.fitting.result._fit_warnings` says for PAC89).  LMUV at 0
+    (its lower bound) is the data's own answer when friction does not fall with slip speed: said in
+    ``notes`` (when given) in those words, not as a warning.
     """
     last: dict[str, str] = {}
     for name, f in fits.items():  # stage order: the last stage that varied a coefficient set its value
@@ -1270,6 +1340,11 @@ def _bound_warnings(p: Mapping[str, float], fits: Mapping[str, StageFit]) -> lis
         v = float(p[k])
         for b, side in ((lo, "lower"), (hi, "upper")):
             if np.isfinite(b) and abs(v - b) <= 1e-6 * max(1.0, abs(b)):
+                if k in SPEED_FRICTION and side == "lower" and notes is not None:
+                    notes.append(f"{k} = {b:g} (stage {stage}), its lower bound: these data show no fall of "
+                                 "friction with slip speed between their speeds (a rise, which MF 6.1 cannot "
+                                 "carry, would end here too)")
+                    continue
                 out.append(f"{k} = {v:.4g} is at its {side} bound {b:g} (stage {stage}): the fit is constrained "
                            "there, its standard error means nothing and the shape it sets may be wrong")
     return out
@@ -1421,7 +1496,7 @@ def _known_names() -> set:
     if _KNOWN is None:
         mf = _mf61()
         _KNOWN = {k for table in (mf.COEFFICIENTS, getattr(mf, "COEFFICIENTS_52", {}))
-                  for names in table.values() for k in names}
+                  for names in table.values() for k in names} | set(SPEED_FRICTION)
     return _KNOWN
 
 
@@ -1494,6 +1569,12 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
                 only = fits["Mz0"].varied + fits["Mz"].varied
             if st.name == "Fy0" and eff_vary is not None:
                 only = list(eff_vary)
+            # LMUV is shared by Fx and Fy: with --effects it is fitted only when a speed effect is asked for; the
+            # Fy0 stage holds the value the Fx0 stage fitted (each stage holds the stages before it: Fx0 was fitted
+            # with it), the joint polish moves it with both channels
+            hold = [k for k in SPEED_FRICTION if k not in eff_vary] if eff_vary is not None else []
+            if st.name == "Fy0" and "Fx0" in fits:
+                hold += [k for k in SPEED_FRICTION if k in fits["Fx0"].varied and k not in hold]
             if vary_set is not None:
                 only = [k for k in (only if only is not None else st.names) if k in vary_set]
             if fixed_names:
@@ -1504,7 +1585,7 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
                 if jf is not None:
                     fits["joint"] = jf
             sf = _fit_stage(st, data, p, vary_only=only, nominal=nominal, version=version, cost=cost, notes=notes,
-                            multistart=multistart)
+                            multistart=multistart, hold=hold)
             if sf is None:
                 continue
             fits[st.name] = sf
@@ -1515,9 +1596,10 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
         raise FitError("the Magic Formula fit produced non-finite coefficients; check the data (units, signs)")
     if "Fy0" in fits and fits["Fy0"].varied:
         _check_orientation(data, p, version)
+    warns = _bound_warnings(p, fits, notes)
     return FitResultMF.build(p, fits, data, model=model, version=version, cost=cost, notes=notes,
                              tyre_info=dict(tyre_info or {}), seconds=time.perf_counter() - t0, effects=effects,
-                             warnings=_bound_warnings(p, fits))
+                             warnings=warns)
 
 
 def _check_orientation(data: MFData, p, version) -> None:

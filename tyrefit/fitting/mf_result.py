@@ -158,6 +158,8 @@ class FitResultMF:
             fitted += [k for k in f.varied if k not in fitted]
             for k, why in f.held.items():
                 held.setdefault(k, why)
+        # a coefficient two stages share (LMUV: Fx0 and Fy0) is fitted when one of them fitted it
+        held = {k: why for k, why in held.items() if k not in fitted}
         cells = _cells(df)
         warns = list(warnings)
         for c, s in stats.items():
@@ -203,9 +205,24 @@ class FitResultMF:
                          f"floor {s['noise_floor']:.3g}){'' if s['fitted'] else ' - not fitted'}")
         if self.effects:
             lines.append("Fy0 effects: " + ", ".join(self.effects))
+        lines += self._speed_lines()
         lines += [f"WARNING: {w}" for w in self.warnings]
         lines += [str(x) for x in (self.tyre_info or {}).get("header", ())]  # design data: origin of each value
         return lines
+
+    def _speed_lines(self) -> list[str]:
+        """Header lines on LMUV (friction decay with slip speed) when the fit set it."""
+        if "LMUV" not in self.fitted:
+            return []
+        stages = [n for n, f in self.stages.items() if "LMUV" in f.varied]
+        speeds = sorted({round(v, 2) for n in stages if n in ("Fx0", "Fy0")
+                         for v in self.stages[n].facts.get("levels", {}).get("speed", [])})
+        sp = ", ".join(f"{v:g}" for v in speeds)
+        return [f"LMUV = {self.params['LMUV']:.4g} fitted (friction decay with slip speed, Pacejka 4.E7: "
+                f"mu / (1 + LMUV Vs/LONGVL), LONGVL = {self.params.get('LONGVL', float('nan')):g} m/s) from "
+                f"{len(speeds)} speeds ({sp} m/s), stages {', '.join(stages)}",
+                "LMUV note: MFeval 4.0 sets LMUV = 0 whatever the file says; there the friction is the one at "
+                "zero slip speed"]
 
     def write_tir(self, path, *, force: bool = False) -> Path:
         """Write the ``FITTYP = 61`` property file (every coefficient; neutral where not fitted)."""

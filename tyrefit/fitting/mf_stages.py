@@ -9,13 +9,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Stage", "STAGES", "FX0", "FY0", "MZ0", "FXC", "FYC", "MZC", "MX", "MX_LINEAR", "MY"]
+__all__ = ["Stage", "STAGES", "SPEED_FRICTION", "FX0", "FY0", "MZ0", "FXC", "FYC", "MZC", "MX", "MX_LINEAR", "MY"]
 
+#: the one speed term of the MF 6.1 (and 5.2) force equations: the scaling factor of friction decay with slip
+#: speed, mu* = LMU / (1 + LMUV Vs / V0) (Pacejka 2012, 4.E7), on mu_x and mu_y alike; the Fx0 stage
+#: fits it (Fy0 when Fx0 did not; tyrefit.fitting.mf.identifiability), the joint polish from both channels
+SPEED_FRICTION = ("LMUV",)
 FX0 = ("PCX1", "PDX1", "PDX2", "PDX3", "PEX1", "PEX2", "PEX3", "PEX4", "PKX1", "PKX2", "PKX3",
-       "PHX1", "PHX2", "PVX1", "PVX2", "PPX1", "PPX2", "PPX3", "PPX4")
+       "PHX1", "PHX2", "PVX1", "PVX2", "PPX1", "PPX2", "PPX3", "PPX4") + SPEED_FRICTION
 FY0 = ("PCY1", "PDY1", "PDY2", "PDY3", "PEY1", "PEY2", "PEY3", "PEY4", "PEY5", "PKY1", "PKY2", "PKY3",
        "PKY4", "PKY5", "PKY6", "PKY7", "PHY1", "PHY2", "PHY3", "PVY1", "PVY2", "PVY3", "PVY4",
-       "PPY1", "PPY2", "PPY3", "PPY4", "PPY5")
+       "PPY1", "PPY2", "PPY3", "PPY4", "PPY5") + SPEED_FRICTION
 MZ0 = ("QBZ1", "QBZ2", "QBZ3", "QBZ4", "QBZ5", "QBZ9", "QBZ10", "QCZ1", "QDZ1", "QDZ2", "QDZ3", "QDZ4",
        "QDZ6", "QDZ7", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "QEZ1", "QEZ2", "QEZ3", "QEZ4", "QEZ5",
        "QHZ1", "QHZ2", "QHZ3", "QHZ4", "PPZ1", "PPZ2")

@@ -18,7 +18,7 @@ Design choices
   so a simulator never falls back to its own defaults.  What the caller does
   not give comes from :func:`tyrefit.models.mf61.neutral` - finite values that
   switch an effect off (shifts, camber, pressure, combined-slip and moment
-  terms 0; scaling factors 1) - and the header says which sections hold such
+  terms 0; scaling factors 1, LMUV 0) - and the header says which sections hold such
   placeholders, next to the parts the caller declares ``not_fitted``.  Zeros
   that make B = 0/0 are never written.
 * **A part with no data gives no force, and says so twice.**  For a force
@@ -36,6 +36,10 @@ Design choices
   -- and a comment ``$ TYREFIT_NOT_FITTED = fx, mx, ...`` names the channels
   without data for tyrefit's reader (MFeval ignores USE_MODE).  A caller that
   declares no stage not fitted gets its own ``USE_MODE`` or 4.
+* ``[SCALING_COEFFICIENTS]`` carries LMUV (friction decay with slip speed,
+  Pacejka 2012 4.E7, neutral 0) beside the factors of
+  :data:`tyrefit.models.mf61.COEFFICIENTS`, as MF-Tyre 6.x and PAC2002 files
+  do: a fit from several speeds sets it (:mod:`tyrefit.fitting.mf`).
 * Turn slip is not part of tyrefit's model; ``[TURNSLIP_COEFFICIENTS]`` carries
   the generic values of TNO's example files (which MFeval also uses as its
   defaults) so that a simulator run in a turn-slip mode still gets finite
@@ -67,7 +71,7 @@ from ..models import mf61
 from .outputs import write_text
 
 __all__ = ["write_mf_tir", "format_mf_tir", "SECTIONS", "TURNSLIP", "RANGE_KEYS", "ONLY_61", "ZERO_FORCE",
-           "not_fitted_channels"]
+           "EXTRA_SCALING", "not_fitted_channels"]
 
 #: generic turn-slip values of TNO's example files (MFeval 4.0 readTIR defaults); not fitted by tyrefit
 TURNSLIP: dict[str, float] = {
@@ -157,6 +161,7 @@ _DESCRIPTION: dict[str, str] = {
     "LKX": "Scale factor of Fx slip stiffness", "LHX": "Scale factor of Fx horizontal shift",
     "LVX": "Scale factor of Fx vertical shift", "LCY": "Scale factor of Fy shape factor",
     "LMUY": "Scale factor of Fy peak friction coefficient", "LEY": "Scale factor of Fy curvature factor",
+    "LMUV": "Scale factor with slip speed Vs decaying friction",
     "LKY": "Scale factor of Fy cornering stiffness", "LKYC": "Scale factor of camber force stiffness",
     "LKZC": "Scale factor of camber torque stiffness", "LHY": "Scale factor of Fy horizontal shift",
     "LVY": "Scale factor of Fy vertical shift", "LTR": "Scale factor of peak of pneumatic trail",
@@ -341,13 +346,20 @@ ONLY_61: frozenset[str] = frozenset(
     + ["PKY5", "PKY6", "PKY7", "PEY5", "RBX3", "RBY4", "QDZ10", "QDZ11", "LKYC", "LKZC", "LMP"])
 
 
+#: scaling factors written besides :data:`tyrefit.models.mf61.COEFFICIENTS`' ones, with their neutral value:
+#: LMUV (friction decay with slip speed, Pacejka 2012 4.E7; MF-Tyre 6.x and PAC2002 files carry it) is 0
+EXTRA_SCALING: dict[str, float] = {"LMUV": 0.0}
+
+
 def _keys(version: str) -> dict[str, list[str]]:
     """Section -> keys written for ``version`` ('6.1' or '5.2')."""
-    if version == "6.1":
-        return mf61.COEFFICIENTS
-    out = {sec: [n for n in names if n not in ONLY_61] for sec, names in mf61.COEFFICIENTS.items()}
-    for sec, extra in mf61.COEFFICIENTS_52.items():
-        out[sec] = out[sec] + list(extra)
+    out = {sec: [n for n in names if version == "6.1" or n not in ONLY_61]
+           for sec, names in mf61.COEFFICIENTS.items()}
+    if version != "6.1":
+        for sec, extra in mf61.COEFFICIENTS_52.items():
+            out[sec] = out[sec] + list(extra)
+    out["SCALING_COEFFICIENTS"] = out["SCALING_COEFFICIENTS"] + [k for k in EXTRA_SCALING
+                                                                 if k not in out["SCALING_COEFFICIENTS"]]
     return out
 
 
@@ -360,7 +372,7 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
     keys = _keys(version)
     given = {str(k).upper(): v for k, v in params.items()}
     given.update(_ranges(ranges))
-    base = dict(mf61.neutral(), LGAX=1.0, LGAY=1.0, LGAZ=1.0, PHY3=0.0)
+    base = dict(mf61.neutral(), LGAX=1.0, LGAY=1.0, LGAZ=1.0, PHY3=0.0, **EXTRA_SCALING)
     not_fitted = list(not_fitted)
     channels, digit = not_fitted_channels(not_fitted)
     for stage in (str(x).lower() for x in not_fitted):
@@ -406,7 +418,11 @@ def format_mf_tir(params: Mapping, *, ranges: Mapping | None = None, header: Ite
         if section == "MODEL":
             continue
         what = "all" if len(names) == len(keys[section]) else ", ".join(names)
-        kind = "scaling factors 1" if section == "SCALING_COEFFICIENTS" else "neutral / generic values"
+        kind = "neutral / generic values"
+        if section == "SCALING_COEFFICIENTS":
+            zero = [n for n in names if n in EXTRA_SCALING]
+            lmuv = f"{', '.join(zero)} 0: no friction decay with slip speed"
+            kind = lmuv if len(zero) == len(names) else "scaling factors 1" + (f" ({lmuv})" if zero else "")
         out.append(f"$ DEFAULTS [{section}]: {what}: {kind}, not from data")
     turnslip = {}
     for k, v in TURNSLIP.items():

@@ -121,7 +121,7 @@ def _eval(p, fz, kappa, alpha, gamma, pressure, speed):
 
 def make_sweeps(p: dict | None = None, *, seed: int = SEED, noise: float = 0.01, loads=None, pressures=None,
                 cambers_deg=None, slip_angles_deg=None, n_points: int = 41, combined: bool = True,
-                pure: bool = True) -> pd.DataFrame:
+                pure: bool = True, speeds=None) -> pd.DataFrame:
     """Set-point sweeps of the tyre ``p`` (default :func:`published_mf61`) with relative noise.
 
     Parameters
@@ -138,6 +138,10 @@ def make_sweeps(p: dict | None = None, *, seed: int = SEED, noise: float = 0.01,
         [deg]; slip angles of the slip-ratio sweeps (0 is pure longitudinal).
     n_points : int
         points per sweep.
+    speeds : sequence of float, optional
+        forward speeds [m/s] (default the one :data:`PROGRAMME` speed); every sweep is repeated at each
+        speed (the outermost loop, so the default gives the same runs and noise as a single speed).  The
+        forces depend on speed through the slip speed in the friction law (LMUV, Pacejka 4.E7) and My.
 
     Returns
     -------
@@ -154,31 +158,33 @@ def make_sweeps(p: dict | None = None, *, seed: int = SEED, noise: float = 0.01,
     alphas = P["slip_angles_deg"] if slip_angles_deg is None else slip_angles_deg
     kap = np.linspace(-P["kappa_max"], P["kappa_max"], n_points)
     alp = np.linspace(-P["alpha_max_deg"], P["alpha_max_deg"], n_points) * _DEG
+    speeds = [P["speed"]] if speeds is None else list(speeds)
     frames = []
     run = 0
-    for pr in pressures:
-        for g in cambers:
-            for fz in loads:
-                sweeps = []
-                if pure:
-                    sweeps.append((kap * 0.0, alp))  # slip-angle sweep at kappa = 0
-                for a in alphas:
-                    if a == 0 and not pure:
-                        continue
-                    if a != 0 and not combined:
-                        continue
-                    sweeps.append((kap, np.full_like(kap, a * _DEG)))
-                for k, a in sweeps:
-                    n = len(k)
-                    f = _eval(p, np.full(n, fz), k, a, np.full(n, g * _DEG), np.full(n, pr), np.full(n, P["speed"]))
-                    d = {"run": run, "fz": fz, "slip_angle": a, "slip_ratio": k, "camber": g * _DEG,
-                         "pressure": pr, "speed": P["speed"]}
-                    for c in ("fx", "fy", "mz", "mx", "my"):
-                        y = np.asarray(f[c], float)
-                        d[f"true_{c}"] = y
-                        d[c] = y + rng.normal(0.0, noise * max(float(np.max(np.abs(y))), 1e-9), n)
-                    frames.append(pd.DataFrame(d))
-                    run += 1
+    for v in speeds:
+        for pr in pressures:
+            for g in cambers:
+                for fz in loads:
+                    sweeps = []
+                    if pure:
+                        sweeps.append((kap * 0.0, alp))  # slip-angle sweep at kappa = 0
+                    for a in alphas:
+                        if a == 0 and not pure:
+                            continue
+                        if a != 0 and not combined:
+                            continue
+                        sweeps.append((kap, np.full_like(kap, a * _DEG)))
+                    for k, a in sweeps:
+                        n = len(k)
+                        f = _eval(p, np.full(n, fz), k, a, np.full(n, g * _DEG), np.full(n, pr), np.full(n, v))
+                        d = {"run": run, "fz": fz, "slip_angle": a, "slip_ratio": k, "camber": g * _DEG,
+                             "pressure": pr, "speed": v}
+                        for c in ("fx", "fy", "mz", "mx", "my"):
+                            y = np.asarray(f[c], float)
+                            d[f"true_{c}"] = y
+                            d[c] = y + rng.normal(0.0, noise * max(float(np.max(np.abs(y))), 1e-9), n)
+                        frames.append(pd.DataFrame(d))
+                        run += 1
     return pd.concat(frames, ignore_index=True)
 
 
