@@ -288,3 +288,17 @@ def test_insample_mutation_makes_held_out_equal_in_sample_and_is_undone():
     with pytest.raises(ValueError, match="unknown mutation"):
         with vr.mutated("nope"):
             pass
+
+
+def test_invariant_checks_fail_on_an_accepted_effect_that_does_not_hold_up():
+    def row(heldout, levelout=None, ph=None):
+        return {"layout": "grid8", "noise": "iid", "effect": None, "step_heldout": heldout, "margin": 0.5,
+                "step_levelout": levelout or [None] * len(heldout), "accepted_p_heldout": ph or []}
+    good = [row([60.0, 42.0, 41.0], [55.0, 44.0, 43.5], [0.002, 0.01]), row([40.0])]
+    checks = {c["check"]: c for c in vr.invariant_checks(good)}
+    assert len(checks) == 3 and all(c["ok"] for c in checks.values())
+    assert checks["every accepted effect lowers the held-out RMSE by the practical margin"]["n"] == 2
+    # the second effect lowers the held-out RMSE by 0.2 N < margin 0.5 N; the levels get worse; p_heldout 0.2
+    bad = good + [row([60.0, 42.0, 41.8], [55.0, 44.0, 44.5], [0.002, 0.2])]
+    checks = {c["check"]: c for c in vr.invariant_checks(bad)}
+    assert [c["k"] for c in checks.values()] == [3, 3, 3] and not any(c["ok"] for c in checks.values())

@@ -122,8 +122,12 @@ def _detectable(c, data) -> list[dict] | None:
     return out
 
 
-def build_advice(data, cands: dict, accepted: list[str], settings) -> list[dict]:
-    """Advice entries (see the module docstring), one per effect family not settled by the diagnosis."""
+def build_advice(data, cands: dict, accepted: list[str], settings, level: float | None = None) -> list[dict]:
+    """Advice entries (see the module docstring), one per effect family not settled by the diagnosis.
+
+    ``level`` is the screening's level (default ``settings.alpha``): the detectable sizes are at it.
+    """
+    level = settings.alpha if level is None else level
     acc_fams = {EFFECTS[a].family for a in accepted}
     start_fams = {c.family for c in cands.values() if c.status == "in start model"}
     out = []
@@ -171,7 +175,7 @@ def build_advice(data, cands: dict, accepted: list[str], settings) -> list[dict]
         entry["test"] = _test(fam, data, cands, entry["status"])
         entry["detectable"] = _detectable(cands[entry["effect"]], data) if entry["status"] != "untestable" else None
         entry["power"] = 0.8
-        entry["level"] = settings.alpha
+        entry["level"] = level
         entry["needs_model"] = needs_model(entry["effect"])
         out.append(entry)
     sr = getattr(data, "slip_ratio_sweeps", None)
@@ -183,7 +187,7 @@ def build_advice(data, cands: dict, accepted: list[str], settings) -> list[dict]
                             "and brake slip, which PAC89 (pure slip only) cannot carry"),
                     "test": ("fit the file with --model mf61: the combined-slip weighting functions G_xa, G_yk and "
                              "S_Vyk (Pacejka 2012, 4.E50-4.E67) are fitted from these sweeps"),
-                    "detectable": None, "power": 0.8, "level": settings.alpha, "needs_model": MF61})
+                    "detectable": None, "power": 0.8, "level": level, "needs_model": MF61})
     return out
 
 
@@ -196,7 +200,7 @@ def advice_lines(advice: list[dict]) -> list[str]:
             parts = [f"{d['parameter']} {d['value']:.3g} {d['unit']} (~{d['force_N']:.0f} N)"
                      for d in a["detectable"] if d["value"] is not None]
             if parts:
-                det = f"; smallest detectable (80 % power, {100 * a['level']:.0f} % level): " + ", ".join(parts)
+                det = f"; smallest detectable (80 % power, {100 * a['level']:g} % level): " + ", ".join(parts)
         lines.append(f"{a['family']} [{a['status']}]: {a['why']}; to decide: {a['test']}{det}"
                      + (f"; {a['needs_model']}" if a.get("needs_model") else ""))
     return lines

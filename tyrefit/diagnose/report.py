@@ -91,7 +91,10 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
     nm = scr.get("noise_model")
     r.p("Each testable effect is screened with a score test at its neutral value; all candidates of a round are "
         "tested together and their p-values adjusted by min-p over the same bootstrap draws (family-wise level "
-        f"{dg.settings.alpha:g}). The null distribution comes from "
+        f"{dg.settings.level(scr.get('method') or ''):g}"
+        + ("" if scr.get("method") == "sweep flips" else
+           f", half the diagnosis' {dg.settings.alpha:g}: the noise model is estimated from the same few sweeps")
+        + "). The null distribution comes from "
         + ("flips of whole sweeps (residuals along a sweep are correlated, so point-wise tests find effects in "
            "pure noise)" if scr.get("method") == "sweep flips" else
            "a noise model estimated from the residuals: AR(1) noise along each sweep plus a random offset per "
@@ -156,7 +159,8 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
     if dg.advice:
         r.p("For every effect family the data could not test, could not settle, or did not show: the extra test "
             "that would decide it, and the smallest effect the present data detect (80 % power at the "
-            f"{100 * dg.settings.alpha:.0f} % level, in the parameter's unit and as the largest change of "
+            f"{100 * dg.advice[0].get('level', dg.settings.alpha):g} % level of the screening, in the parameter's "
+            "unit and as the largest change of "
             "lateral force the start model cannot mimic).")
         rows = []
         for a in dg.advice:

@@ -9,8 +9,8 @@ import time
 from pathlib import Path
 
 from .cases import LAYOUTS, NOISE_MODELS, SIGMA
-from .runner import (MUTATIONS, PLAN, base_fit, oracle, summary_markdown, check_targets, fingerprint, git_commit, markdown, plan_cases, rates,
-                     run, targets_markdown)
+from .runner import (MUTATIONS, PLAN, base_fit, check_targets, fingerprint, git_commit, invariant_checks, markdown,
+                     oracle, plan_cases, rates, run, summary_markdown, targets_markdown)
 from .truth import EFFECT_FAMILY, EFFECTS
 
 
@@ -54,8 +54,9 @@ def main(argv=None) -> int:
     if args.base_fit:
         meta["start-model fit to noise-free truth, RMSE / sigma"] = {
             lay: {k: round(v, 3) for k, v in d.items()} for lay, d in base_fit(args.layout).items()}
-    checks = [c for lay in dict.fromkeys(r["layout"] for r in rows) if lay.startswith("load")
-              for c in check_targets(rows, lay)]
+    checks = [c for lay in dict.fromkeys(r["layout"] for r in rows)
+              for c in (check_targets(rows, lay) if lay.startswith("load")
+                        else invariant_checks([r for r in rows if r["layout"] == lay], lay))]
     if args.base_fit:
         meta["best single catalogue effects on the noise-free truth, RMSE / sigma"] = {
             lay: {eff or "null": {k: round(v, 2) for k, v in list(oracle(lay, eff).items())[:4]}
@@ -70,7 +71,7 @@ def main(argv=None) -> int:
     head, sep, table = md.partition("| layout | noise |")
     md = head + "## Summary\n\n" + summary_markdown(res) + "\n## By layout, noise model and truth\n\n" + sep + table
     if checks:
-        md += "\nIssue 11 targets (one sweep per load):\n\n" + targets_markdown(checks)
+        md += "\nIssue 11 targets (one sweep per load) and the invariants of every layout:\n\n" + targets_markdown(checks)
     if args.base_fit:
         md += "\nStart-model fit to the noise-free truth, RMSE / sigma:\n\n"
         for lay, d in meta["start-model fit to noise-free truth, RMSE / sigma"].items():
