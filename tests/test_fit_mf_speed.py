@@ -41,21 +41,18 @@ def _header(text: str) -> list[str]:
 def curve_errors(p_fit, p_true, speed, design=DESIGN) -> dict[str, float]:
     """Worst |fitted - generating| at ``speed`` in % of the channel's peak, noise-free, over the data range.
 
-    fx: along every slip-ratio sweep (pure and at -3, -6 deg); fy: along every slip-angle sweep and every
-    combined sweep.  Left out: Fy of the pure drive/brake sweep (alpha = 0, camber 0), the combined-slip shift
-    SVy_kappa = DVy_kappa sin(RVY5 atan(RVY6 kappa)) alone: how steep it is at kappa ~ 0 (RVY6) is not
-    determined by slip-ratio samples 0.01 apart, so on some seeds the fit takes RVY6 ~ 150 for the
-    generating -27.5 and misses by 2.0-2.6 % of peak Fy at kappa = +-0.005, between the samples (within
-    0.5 % at the data's own slips).  Measured on seeds 21-25 at one speed without LMUV as well, and the
-    same RVY6 from the code before LMUV was fitted on the same data: it says nothing on speed.
+    fx: along every slip-ratio sweep (pure and at -3, -6 deg); fy: along every sweep, the pure drive/brake sweep
+    (alpha = 0) included: there Fy is the combined-slip shift SVy_kappa = DVy_kappa sin(RVY5 atan(RVY6 kappa))
+    (with Gy_kappa Fy0(0)), and 81 points per sweep (slip ratio 0.005 apart) see it between the fitted record's
+    samples (0.01 apart).  Before the one-lobe constraint on SVy_kappa (tyrefit.fitting.mf.SVYK_LOBE) the fit
+    took a phase-wrapped alias there on some seeds (RVY5 ~ 3.6, RVY6 ~ 150 for -1.80 / -27.5: 2.0-2.6 % of peak
+    Fy at kappa = +-0.005); this check left that sweep out.
     """
     a = gen.make_sweeps(p_true, noise=0.0, n_points=81, speeds=[speed], **design)
     b = gen.make_sweeps(p_fit, noise=0.0, n_points=81, speeds=[speed], **design)
     kappa_sweep = (a["slip_ratio"].groupby(a["run"]).transform("std") > 0).to_numpy()
-    alpha0 = (a["slip_angle"].abs() < 1e-9).to_numpy()
-    fy_rows = ~kappa_sweep | ~alpha0
     out = {}
-    for c, rows in (("fx", kappa_sweep), ("fy", fy_rows)):
+    for c, rows in (("fx", kappa_sweep), ("fy", np.ones(len(a), bool))):
         t, f = a[f"true_{c}"].to_numpy()[rows], b[f"true_{c}"].to_numpy()[rows]
         out[c] = 100.0 * float(np.max(np.abs(f - t)) / np.max(np.abs(t)))
     return out
@@ -85,7 +82,8 @@ def test_fx_fy_within_1pct_of_peak_at_every_speed(three_speeds):
     p = _tyre()
     for v in SPEEDS:
         err = curve_errors(r.params, p, v)
-        # measured on seeds 21-30: worst Fx 0.50, Fy 0.69 % of peak at any of the three speeds
+        # measured on seeds 21-30: worst Fx 0.50, Fy 0.69 % of peak at any of the three speeds (Fy with the alpha = 0
+        # sweeps; without the one-lobe constraint on SVy_kappa seeds 22, 24, 27 took the alias: Fy 2.1-2.6 %)
         assert err["fx"] < 1.0 and err["fy"] < 1.0, (v, err)
     # the check can fail: the same tyre without its speed law misses at the speeds away from LONGVL
     # (8 % of mu at 24.9 m/s and kappa = 0.2: Vs / V0 = 0.3), while it is nearly the same at LONGVL
@@ -191,3 +189,22 @@ def test_no_speed_law_in_the_data_gives_lmuv_near_zero_without_warning():
     r = fit_mf(df, tyre_info=INFO, stages=["Fx0", "Fy0"])
     assert r.params["LMUV"] < 1e-6 and not any("LMUV" in w for w in r.warnings), r.warnings
     assert any(n.startswith("LMUV = 0") and "no fall of friction with slip speed" in n for n in r.notes), r.notes
+
+
+@pytest.mark.slow
+def test_full_design_at_three_speeds_every_channel_within_1pct():
+    # 5 loads x 3 pressures x 3 cambers, pure and combined (0, -3, -6 deg), at 3 speeds, LMUV 0.3, 1 % noise.
+    # Before the one-lobe constraint on SVy_kappa (tyrefit.fitting.mf.SVYK_LOBE) seeds 1-3 took the phase-wrapped
+    # alias RVY5 ~ 3.6, |RVY6| ~ 151: Fy 5.33-5.38 % of peak (alpha = 0 sweeps, kappa = +-0.005), Mx 1.81-1.83 %
+    # (through Fy).  Measured with it, seeds 1-3, worst over the 3 speeds: Fx 0.15, Fy 0.18, Mz 0.32, Mx 0.18,
+    # My 0.07 %; RVY5 1.800-1.801, RVY6 -27.41 to -27.50
+    p = _tyre()
+    df = gen.make_sweeps(p, seed=1, speeds=SPEEDS)
+    r = fit_mf(df, tyre_info=INFO)
+    for v in SPEEDS:
+        a = gen.make_sweeps(p, noise=0.0, n_points=81, speeds=[v])
+        b = gen.make_sweeps(r.params, noise=0.0, n_points=81, speeds=[v])
+        for c in ("fx", "fy", "mz", "mx", "my"):
+            t, f = a[f"true_{c}"].to_numpy(), b[f"true_{c}"].to_numpy()
+            err = 100.0 * float(np.max(np.abs(f - t)) / np.max(np.abs(t)))
+            assert err < 1.0, (v, c, err, r.params["RVY5"], r.params["RVY6"])
