@@ -81,7 +81,7 @@ from ..errors import DataError, FitError
 from ..models import pac89
 from . import initial as ini
 from ._blas import single_threaded_blas
-from .core import Parameters, covariance, huber, soft_l1, solve
+from .core import Parameters, covariance, huber, interior, soft_l1, solve
 from .core import objective as core_objective
 
 __all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
@@ -537,20 +537,6 @@ def noise_floor(d: PartData) -> tuple[float, pd.Series]:
 
 
 # ------------------------------------------------------------------------------ the problem
-def _interior(x, lb, ub, rel: float = 1e-9):
-    """Project ``x`` strictly inside [lb, ub] (least_squares needs a feasible start)."""
-    x = np.asarray(x, float).copy()
-    for j in range(x.size):
-        a, b = lb[j], ub[j]
-        eps_a = rel * max(1.0, abs(a)) if np.isfinite(a) else 0.0
-        eps_b = rel * max(1.0, abs(b)) if np.isfinite(b) else 0.0
-        if np.isfinite(a) and np.isfinite(b) and b - a <= eps_a + eps_b:
-            x[j] = 0.5 * (a + b)
-        else:
-            x[j] = min(max(x[j], a + eps_a), b - eps_b)
-    return x
-
-
 class _Problem:
     """Affine parametrisation theta -> coefficients with box bounds on theta."""
 
@@ -642,7 +628,7 @@ class _Problem:
     def theta_of(self, coeffs: Mapping[str, float]) -> np.ndarray:
         c = np.array([float(coeffs.get(k, self.base[k])) for k in self.names])
         th, *_ = np.linalg.lstsq(self.T, c - self.offset, rcond=None)
-        return _interior(th, self.lb, self.ub)
+        return interior(th, self.lb, self.ub)
 
     def coeffs_of(self, theta: np.ndarray) -> dict[str, float]:
         c = self.offset + self.T @ theta
