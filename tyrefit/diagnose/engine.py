@@ -92,13 +92,12 @@ fields ``accepted``, ``steps[i].rmse_heldout``, ``noise_floor``,
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..effects import EFFECTS, Effect, get_effect, parse_effects
 from ..errors import DataError, FitError
-from .advice import build_advice, needs_model
+from .advice import build_advice
 from .data import SweepData, prepare
 from .fitter import FitOut, ModelSpec, fit, fit_start
 from .result import Diagnosis
@@ -120,7 +119,6 @@ class _Engine:
         k = self.G if self.G <= settings.loso_max_sweeps else settings.n_folds
         self.folds = sweep_folds(cells, k, self.rng)
         self.layout = SweepLayout(data.sweep, self.G)
-        self.floor = float("nan")  # the within-sweep noise floor [N], set by diagnose()
         self.flips = settings.test == "flip" or (settings.test == "auto" and self.G >= MIN_FLIP_SWEEPS)
         #: level of the screening (sweep flips: alpha; the noise-model bootstrap of few sweeps: alpha_noise)
         self.alpha = settings.level("sweep flips" if self.flips else "noise-model bootstrap")
@@ -198,7 +196,7 @@ class _Engine:
     def screen(self, spec: ModelSpec, cur: FitOut, cands):
         """Score-test every candidate at once (:func:`~tyrefit.diagnose.stats.screen_candidates`)."""
         d = self.data
-        Js, specs = [], []
+        Js = []
         J_model = None
         for e, cspec in cands:
             theta = cspec.start(cur.values)
@@ -212,7 +210,7 @@ class _Engine:
                                 self.s.test)
         return scr
 
-    def evaluate(self, cspec: ModelSpec, cur: Step, noise=None) -> tuple[Step, dict]:
+    def evaluate(self, cspec: ModelSpec, cur: Step, margin_abs: float, noise=None) -> tuple[Step, dict]:
         d = self.data
         full = fit(cspec, d, x0=cspec.start(cur.fit.values))
         st = self.step(cspec, full, None)
@@ -239,7 +237,6 @@ class _Engine:
         # interpolated evidence, yet a law in load shows most there.  With few sweeps (noise-model screening)
         # a candidate whose interpolated evidence falls short may stand on every held-out sweep instead, ends
         # included, against the noise model's null for that same set of sweeps
-        margin_abs = self.s.margin * self.floor
         if (noise is not None and not self.inside.all()
                 and not (ev["delta_heldout"] >= margin_abs and ev["p_heldout"] < self.s.alpha)
                 and ev["delta_heldout_all"] >= margin_abs):
@@ -377,7 +374,6 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
     if not np.isfinite(floor) or floor <= 0:
         raise DataError("sweeps too short to estimate the noise floor (need >= 10 points per sweep)")
     margin_abs = s.margin * floor
-    eng.floor = floor
 
     base = ModelSpec((), eng.fixed)
     fit0 = fit_start(base, data)
@@ -410,7 +406,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
             c.predicted_dssr = float(scr.predicted_dssr[k])
             c.critical = float(scr.critical[k])
             c.info = {**scr.info[k], "names": [n for n in cspec.names if n not in cur.spec.names]}
-            lev = s.level(scr.method)
+            lev = eng.alpha
             c.status = "not significant" if pa >= lev else "significant, not refitted"
             c.reason = (f"adjusted p = {pa:.3g} >= {lev:g} (score test, {scr.method}, {scr.n_clusters} sweeps, "
                         f"min-p over {len(pool)} candidates)") if pa >= lev else ""
@@ -432,7 +428,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         for batch in batches:
             for e, cspec, _ in batch:
                 try:
-                    st, ev = eng.evaluate(cspec, cur, scr.noise)
+                    st, ev = eng.evaluate(cspec, cur, margin_abs, scr.noise)
                 except FitError as exc:
                     cands[e.id].status, cands[e.id].reason = "significant but not confirmed", f"refit failed: {exc}"
                     continue

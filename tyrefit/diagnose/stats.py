@@ -552,26 +552,17 @@ def estimate_noise(resid: np.ndarray, layout: SweepLayout, dof_within: float = 0
 
 
 def simulate_noise(model: NoiseModel, layout: SweepLayout, n_draws: int, rng: np.random.Generator) -> np.ndarray:
-    """Draws (n_draws, N) of AR(1) + sweep-offset noise.
-
-    ``model`` is one noise model (``sd`` (G,), scalar ``rho`` and ``tau``:
-    every draw from it) or ``n_draws`` models (``sd`` (n_draws, G), ``rho``
-    and ``tau`` (n_draws,): draw b from model b).
-    """
-    sd = np.asarray(model.sd, dtype=float)
-    rho = np.asarray(model.rho, dtype=float).ravel()
-    tau = np.asarray(model.tau, dtype=float).ravel()
-    if sd.ndim == 2 and sd.shape[0] == n_draws and n_draws > 1:
-        sd, rho, tau = sd[:, -layout.G:], rho[:, None], tau[:, None]  # one model per draw
-    else:
-        sd, rho, tau = sd.reshape(-1)[-layout.G:][None, :], rho[:1][:, None], tau[:1][:, None]
+    """Draws (n_draws, N) of AR(1) + sweep-offset noise from one estimated model."""
+    sd = np.asarray(model.sd, dtype=float).reshape(-1)[-layout.G:]
+    rho = float(np.asarray(model.rho).ravel()[0])
+    tau = float(np.asarray(model.tau).ravel()[0])
     z = rng.standard_normal((n_draws, layout.G, layout.n_max))
     e = np.empty_like(z)
     e[..., 0] = z[..., 0]
-    c = np.sqrt(np.clip(1.0 - rho * rho, 0.0, None))
+    c = np.sqrt(max(1.0 - rho * rho, 0.0))
     for i in range(1, layout.n_max):
         e[..., i] = rho * e[..., i - 1] + c * z[..., i]
-    e = e * sd[..., None] + (tau * rng.standard_normal((n_draws, layout.G)))[..., None]
+    e = e * sd[None, :, None] + tau * rng.standard_normal((n_draws, layout.G))[..., None]
     return layout.unpad(e)
 
 
@@ -730,89 +721,46 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
         lag[:, h, :] = x
     colsum = Jp.sum(axis=1)  # (G, sum q)
     off = np.sum(colsum[:, ia] * colsum[:, ib], axis=0)  # (pairs,)
-    engine = _NoiseScreen(Q, dof_w, dof_b, allJ, q, sl, lag, off, layout)
-    res = engine.run(r[None, :], n_boot, rng, keep_draws=True)
-    T, Tb, noise, var = res["T"][:, 0], res["Tb"][:, 0, :], res["dgp"], res["V"]
-    p, padj, crit = _minp_adjust(T, Tb, alpha)
-    return Screen(T, p, padj, dssr, q, crit, "noise-model bootstrap", G, noise,
-                  [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)])
 
+    def alt_resid(x):
+        return x - (x @ Q) @ Q.T
 
-class _NoiseScreen:
-    """The noise-model screening of :func:`screen_candidates`, vectorised over data sets.
+    noise_obs = estimate_noise(alt_resid(r), layout, dof_w, dof_b)
+    # bootstrap bias correction of the noise model (Efron & Tibshirani 1993, Sec. 10.3): the projection on
+    # the model's smooth directions removes slow noise, so rho, sd and tau come out low; simulate from the
+    # estimate, re-estimate, and move each parameter by the bias the pilot draws show
+    pilot = estimate_noise(alt_resid(simulate_noise(noise_obs, layout, 199, rng)), layout, dof_w, dof_b)
+    noise = NoiseModel(
+        sd=np.asarray(noise_obs.sd) * np.asarray(noise_obs.sd) / np.maximum(np.mean(pilot.sd, axis=0), 1e-300),
+        rho=np.clip(2.0 * np.asarray(noise_obs.rho) - np.mean(pilot.rho), -0.5, 0.97),
+        tau=np.maximum(0.0, 2.0 * np.asarray(noise_obs.tau) - np.mean(pilot.tau)))
+    e = simulate_noise(noise, layout, n_boot, rng)
+    nb = estimate_noise(alt_resid(e), layout, dof_w, dof_b)
+    sb = e @ allJ  # scores of the draws (J~ is orthogonal to the model's directions)
 
-    ``run(E, B)`` treats each row of ``E`` as the residuals of one data set:
-    it estimates the AR(1) + offset noise from the part outside the model and
-    candidate directions (``Q``), corrects its bias with a pilot bootstrap,
-    draws ``B`` noise vectors from the corrected model, re-estimates the
-    noise in each (studentised statistics) and returns the candidates'
-    statistics with their bootstrap draws (the observed data are one row;
-    simulated null records, as in a double bootstrap, can be many).
-    """
-
-    def __init__(self, Q, dof_w, dof_b, allJ, q, sl, lag, off, layout):
-        self.Q, self.dof_w, self.dof_b, self.allJ = Q, dof_w, dof_b, allJ
-        self.q, self.sl, self.lag, self.off, self.layout = q, sl, lag, off, layout
-        self.K = len(q)
-
-    def alt_resid(self, x):
-        return x - (x @ self.Q) @ self.Q.T
-
-    def estimate(self, E) -> NoiseModel:
-        return estimate_noise(self.alt_resid(E), self.layout, self.dof_w, self.dof_b)
-
-    def variances(self, nm: NoiseModel) -> np.ndarray:
-        H = self.layout.n_max
+    def variances(nm: NoiseModel) -> np.ndarray:
         rho = np.atleast_1d(nm.rho)
         powh = rho[:, None] ** np.arange(H)[None, :]  # (B, H)
         w = (np.atleast_2d(nm.sd) ** 2)[:, :, None] * powh[:, None, :]  # (B, G, H)
-        return np.einsum("bgh,ghp->bp", w, self.lag) + (np.atleast_1d(nm.tau) ** 2)[:, None] * self.off[None, :]
+        return np.einsum("bgh,ghp->bp", w, lag) + (np.atleast_1d(nm.tau) ** 2)[:, None] * off[None, :]
 
-    def statistics(self, S: np.ndarray, nm: NoiseModel) -> np.ndarray:
-        """T = s' V^-1 s per candidate for scores S (B, sum q) under noise models nm (B of them) -> (K, B)."""
-        V = self.variances(nm)
-        out = np.empty((self.K, S.shape[0]))
-        start = 0
-        for k in range(self.K):
-            qk = self.q[k]
-            Vk = V[:, start:start + qk * qk].reshape(-1, qk, qk)
-            start += qk * qk
-            sk = S[:, self.sl[k]:self.sl[k + 1]]
-            out[k] = np.einsum("bi,bij,bj->b", sk, np.linalg.pinv(Vk, rcond=1e-10, hermitian=True), sk)
-        return out
-
-    def run(self, E: np.ndarray, B: int, rng: np.random.Generator, n_pilot: int = 199,
-            keep_draws: bool = False) -> dict:
-        M, G = E.shape[0], self.layout.G
-        raw = self.estimate(E)  # (M, ...)
-        # bootstrap bias correction of each data set's noise model (Efron & Tibshirani 1993, Sec. 10.3): the
-        # projection on the model's smooth directions removes slow noise, so rho, sd and tau come out low;
-        # simulate from the estimate, re-estimate, and move each parameter by the bias the pilot draws show
-        rep = lambda a, n: np.repeat(np.asarray(a, dtype=float).reshape(M, -1), n, axis=0)  # noqa: E731
-        pil = self.estimate(simulate_noise(NoiseModel(rep(raw.sd, n_pilot), rep(raw.rho, n_pilot).ravel(),
-                                                      rep(raw.tau, n_pilot).ravel()), self.layout, M * n_pilot, rng))
-        psd = np.asarray(pil.sd).reshape(M, n_pilot, G).mean(axis=1)
-        prho = np.asarray(pil.rho).reshape(M, n_pilot).mean(axis=1)
-        ptau = np.asarray(pil.tau).reshape(M, n_pilot).mean(axis=1)
-        sd_raw, rho_raw, tau_raw = np.asarray(raw.sd).reshape(M, G), np.asarray(raw.rho).ravel(), \
-            np.asarray(raw.tau).ravel()
-        dgp = NoiseModel(sd=sd_raw * sd_raw / np.maximum(psd, 1e-300),
-                         rho=np.clip(2.0 * rho_raw - prho, -0.5, 0.97),
-                         tau=np.maximum(0.0, 2.0 * tau_raw - ptau))
-        e = simulate_noise(NoiseModel(rep(dgp.sd, B), rep(dgp.rho, B).ravel(), rep(dgp.tau, B).ravel()),
-                           self.layout, M * B, rng)
-        nb = self.estimate(e)
-        Tb = self.statistics(e @ self.allJ, nb).reshape(self.K, M, B)
-        T = self.statistics(E @ self.allJ, raw)  # (K, M)
-        out = {"T": T, "Tb": Tb}
-        if keep_draws:
-            out["dgp"] = NoiseModel(sd=dgp.sd[0], rho=np.asarray(dgp.rho[0]), tau=np.asarray(dgp.tau[0]))
-            V = self.variances(raw)[0]
-            out["V"], start = [], 0
-            for qk in self.q:
-                out["V"].append(V[start:start + qk * qk].reshape(qk, qk))
-                start += qk * qk
-        return out
+    Vobs, Vb = variances(noise_obs)[0], variances(nb)
+    T, Tb, var = np.empty(K), np.empty((K, n_boot)), []
+    start = 0
+    for k in range(K):
+        qk = q[k]
+        npair = qk * qk
+        Vk = Vobs[start:start + npair].reshape(qk, qk)
+        Vbk = Vb[:, start:start + npair].reshape(-1, qk, qk)
+        start += npair
+        sk = s_obs[sl[k]:sl[k + 1]]
+        T[k] = float(sk @ np.linalg.pinv(Vk, rcond=1e-10, hermitian=True) @ sk)
+        sbk = sb[:, sl[k]:sl[k + 1]]
+        Tb[k] = np.einsum("bi,bij,bj->b", sbk, np.linalg.pinv(Vbk, rcond=1e-10, hermitian=True), sbk)
+        var.append(Vk)
+    p, padj, crit = _minp_adjust(T, Tb, alpha)
+    return Screen(T, p, padj, dssr, q, crit, "noise-model bootstrap", G, noise,
+                  [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)])
 
 
 def detectable_size(fisher: np.ndarray, var: np.ndarray, critical: float, power: float = 0.8) -> np.ndarray:

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-import numpy as np
 
 from ..models import pac89
 from .base import Effect, ModelInputs

@@ -154,11 +154,9 @@ VSD 48 (2010) (the PP* terms).  Komana, Els, Becker (seed 003), Eq. 2-5.
 from __future__ import annotations
 
 import math
-import os
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
