@@ -419,12 +419,19 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         sig.sort(key=lambda x: -x[2])
         confirmed = []
         evaluated = {}
-        # refit the strongest candidates first: those within a factor 4 of the largest predicted
-        # error reduction (at most `batch`); the rest only if none of these is confirmed
+        # refit the strongest families first: those within a factor 4 of the largest predicted error
+        # reduction (at most `batch` families, every significant variant of each: variants are told apart
+        # by their held-out gains below, and near-equal predicted gains must not push the simplest one out);
+        # the other families only if none of these is confirmed
+        fams = list(dict.fromkeys(e.family for e, _, _ in sig))
+        batches = [[c for c in sig if c[0].family in fams[b:b + s.batch]] for b in range(0, len(fams), s.batch)]
         top = sig[0][2] if sig else 0.0
-        first = [c for c in sig[:s.batch] if c[2] >= 0.25 * top]
-        rest = [c for c in sig if c not in first]
-        batches = [first] + [rest[b:b + s.batch] for b in range(0, len(rest), s.batch)]
+        if batches:
+            strong = {e.family for e, _, g in batches[0] if g >= 0.25 * top}
+            weak = [c for c in batches[0] if c[0].family not in strong]
+            batches[0] = [c for c in batches[0] if c[0].family in strong]
+            if weak:
+                batches.insert(1, weak)
         for batch in batches:
             for e, cspec, _ in batch:
                 try:

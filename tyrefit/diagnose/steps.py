@@ -47,7 +47,8 @@ class Settings:
     heldout_extrapolation : count held-out sweeps beyond the training levels
         in ``rmse_heldout`` and in the evidence (default False: they are
         extrapolations, reported apart as ``rmse_extrapolated``).
-    batch : candidates refitted at a time (largest predicted gain first).
+    batch : effect families refitted at a time, every significant variant of each (largest predicted
+        gain first).
     max_steps : most effects added.
     max_points_per_sweep : longer sweeps are thinned evenly.
     """

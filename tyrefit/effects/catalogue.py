@@ -14,7 +14,8 @@ Families
                     curvature of the law, D (1 + q dfz^2) (not PAC89 or MF 6.x: see below)
 ``curvature_load``  curvature changing with load (a6)
 ``overload``        grip falling above the rated load (seed 003 Sec. 4.2; not PAC89); the variant
-                    ``overload_degressive`` puts the hinge on a degressive trend (a1)
+                    ``overload_degressive`` puts the hinge on a degressive trend (a1),
+                    ``overload_knee`` fits how wide the knee is (where below the rating the loss starts)
 ``camber``          camber thrust, shift and stiffness loss (a5, a8, a11; seed 001); the variant
                     ``camber_brush`` is the camber brush model's thrust (seed 001 Eq. 17-22)
 ``offsets``         ply steer and conicity shifts (a9, a10, a12, a13)
@@ -35,7 +36,13 @@ load level) is the Taylor term every smooth law has; it needs >= 4 load
 levels (3 for the straight line plus one to test the bend).  Likewise a grip
 loss above the rated load usually sits on a degressive trend below it ("faster
 than the smooth load trend", Komana et al.), so ``overload_degressive`` frees
-a1 with the hinge.  ``overload_mu`` is bounded at 0: a hinge that *raises*
+a1 with the hinge.  Where the loss starts is a property of the tyre, not of
+its load index: the patch caves in gradually, and a rating is a nominal step
+of 3-4 %.  The hinge is rounded over Fr (1 +- 0.1) by default; when the loss
+sets in further below the rating (a smooth knee 8 % of Fr wide left 0.62
+sigma on noise-free one-sweep-per-load data with the fixed rounding, 0.21
+sigma with the width fitted) ``overload_knee`` fits the half-width w in
+0.01-0.5 Fr.  ``overload_mu`` is bounded at 0: a hinge that *raises*
 grip above the rated load is not overload, and allowing it let an overload
 variant pass for a friction law that levels off.  When a candidate's terms
 contain another confirmed candidate's (``overload_degressive`` contains
@@ -59,7 +66,7 @@ import numpy as np
 
 from ..errors import DataError, close_matches
 from .base import DataSummary, Effect, ModelInputs, Param, PhysicsCard
-from .factors import overload_factor, relative_factor
+from .factors import KNEE_HALF_WIDTH, overload_factor, relative_factor
 
 __all__ = ["BASE", "BASE_NAMES", "EFFECTS", "FAMILIES", "get_effect", "parse_effects", "resolve_pac89",
            "brush_camber_fade"]
@@ -152,6 +159,11 @@ def _scale_d(coef: dict, m) -> None:
 def _apply_overload(coef: dict, v: Mapping, x: ModelInputs) -> None:
     _need(x, "fz", "rated_load")
     _scale_d(coef, overload_factor(x.fz, x.rated_load, v["overload_mu"]))  # Komana et al., Sec. 4.2
+
+
+def _apply_overload_knee(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    _need(x, "fz", "rated_load")
+    _scale_d(coef, overload_factor(x.fz, x.rated_load, v["overload_mu"], v["overload_width"]))
 
 
 def _apply_overload_stiffness(coef: dict, v: Mapping, x: ModelInputs) -> None:
@@ -257,6 +269,8 @@ _A12 = Param("a12", 0.0, (-1000.0, 1000.0), (-30.0, 30.0), "N/kN", 10.0, "vertic
 _A13 = Param("a13", 0.0, (-5000.0, 5000.0), (-300.0, 300.0), "N", 50.0, "constant vertical shift (residual force)")
 _OV_MU = Param("overload_mu", 0.0, (0.0, 3.0), (0.0, 1.0), "-", 0.3,
                "friction loss per rated load of overload: D (1 - k h(Fz - Fr)/Fr), h a hinge rounded over +-10 % of Fr")
+_OV_W = Param("overload_width", KNEE_HALF_WIDTH, (0.01, 0.5), (0.03, 0.3), "-", 0.05,
+               "half-width of the rounded knee as a share of the rated load: the grip loss starts at Fr (1 - w)")
 _OV_KY = Param("overload_ky", 0.0, (-1.0, 3.0), (0.0, 1.0), "-", 0.3,
                "cornering-stiffness loss per rated load of overload")
 _CB_K = Param("camber_brush_k", 0.0, (-200.0, 200.0), (0.0, 30.0), "N/(kN^1.5 deg)", 5.0,
@@ -411,6 +425,10 @@ def _effects() -> list[Effect]:
         Effect("overload", "overload", "grip falling above the rated load", (_OV_MU,),
                "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,
                _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload, pac89_approx=("a1",),
+               pac89_note=_NOT_PAC89_OVERLOAD, requires_rated_load=True),
+        Effect("overload_knee", "overload", "grip falling above the rated load, with the knee width fitted",
+               (_OV_MU, _OV_W), "loads above the rated load and >= 2 levels at or below it; --rated-load",
+               _overload, _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload_knee, pac89_approx=("a1",),
                pac89_note=_NOT_PAC89_OVERLOAD, requires_rated_load=True),
         Effect("overload_degressive", "overload", "grip falling above the rated load, on a degressive load trend",
                (_A1, _OV_MU), "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,

@@ -12,7 +12,7 @@ __all__ = ["overload_factor", "relative_factor", "KNEE_HALF_WIDTH"]
 KNEE_HALF_WIDTH = 0.1
 
 
-def overload_factor(fz, rated_load: float, k):
+def overload_factor(fz, rated_load: float, k, half_width=KNEE_HALF_WIDTH):
     """Multiplier 1 - k max(0, Fz - Fr)/Fr on a factor above the rated load Fr.
 
     Parameters
@@ -23,6 +23,9 @@ def overload_factor(fz, rated_load: float, k):
         Rated (maximum) load of the tyre Fr [N].
     k : array_like
         Fractional loss per rated load of overload [-]; 0 is neutral.
+    half_width : array_like, optional
+        Half-width of the rounded knee as a share of Fr [-] (default
+        :data:`KNEE_HALF_WIDTH`); the ``overload_knee`` effect fits it.
 
     Notes
     -----
@@ -36,10 +39,11 @@ def overload_factor(fz, rated_load: float, k):
     hinge left 0.76 sigma of a smooth knee on one-sweep-per-load data with a
     level at the rated load, where a curved friction law then explained the
     data better than the overload it was.  Exactly 1.0 when ``k == 0``, and
-    at loads below Fr (1 - w).
+    at loads below Fr (1 - w).  How wide the knee is depends on the tyre (how
+    gradually the patch caves in), so ``overload_knee`` fits ``half_width``.
     """
     x = np.asarray(fz, dtype=float) - rated_load
-    w = KNEE_HALF_WIDTH * rated_load
+    w = np.asarray(half_width, dtype=float) * rated_load
     h = np.where(x <= -w, 0.0, np.where(x >= w, x, (x + w) ** 2 / (4.0 * w)))  # C1 hinge: a rounded knee
     return 1.0 - k * h / rated_load
 

@@ -191,6 +191,7 @@ EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
     # MF 6.1 mu_y is linear in dfz: a fall above the rated load is carried by PDY2 and the curvature
     # law at best; the stiffness fall by PKY4 (the stiffness law's curvature, peak at PKY2 Fz0)
     "overload": ("PDY2", "PEY2"),
+    "overload_knee": ("PDY2", "PEY2"),
     "overload_degressive": ("PDY2", "PEY2"),
     "overload_stiffness": ("PDY2", "PEY2", "PKY4"),
     "camber": ("PDY3", "PKY3", "PKY6", "PKY7", "PVY3", "PVY4", "PEY3"),
