@@ -122,6 +122,31 @@ def test_overload_is_a_hinge_at_the_rated_load():
         assert d == pytest.approx(0.0 if f0 < 6000 else -1 / 6000.0, abs=1e-8)
 
 
+def test_overload_knee_width_moves_where_the_loss_starts():
+    fr = 6000.0
+    # the default rounding is the fitted variant at half-width 0.1, bit for bit
+    fz = np.linspace(3000.0, 9000.0, 61)
+    np.testing.assert_array_equal(overload_factor(fz, fr, 0.45), overload_factor(fz, fr, 0.45, 0.1))
+    for w in (0.05, 0.3):
+        m = overload_factor(fz, fr, 0.45, w)
+        assert np.all(m[fz <= fr * (1 - w)] == 1.0) and np.all(m[fz > fr * (1 - w) + 1.0] < 1.0)
+        above = fz >= fr * (1 + w)  # past the knee: the same straight loss whatever the width
+        np.testing.assert_allclose(m[above], 1 - 0.45 * (fz[above] - fr) / fr, rtol=0, atol=1e-12)
+        # C1 at both ends of the blend, w/4 of the loss at the rated load
+        assert overload_factor(fr, fr, 1.0, w) == pytest.approx(1 - w / 4)
+        for f0, slope in ((fr * (1 - w), 0.0), (fr * (1 + w), -1 / fr)):
+            lo, hi = overload_factor(np.array([f0 - 1e-3, f0 + 1e-3]), fr, 1.0, w)
+            assert (hi - lo) / 2e-3 == pytest.approx(slope, abs=1e-8)
+    # the catalogue entry scales D by that factor
+    x = grid()
+    v = dict(BASE, overload_mu=0.45, overload_width=0.3)
+    m = overload_factor(x.fz, 6000.0, 0.45, 0.3)
+    ref = pac89.lateral_force({**{f"a{i}": 0.0 for i in range(14)}, **BASE, "a2": BASE["a2"] * m},
+                              x.fz, x.slip_angle, x.camber)
+    np.testing.assert_allclose(lateral_force(v, ["overload_knee"], x), ref, rtol=0, atol=1e-9)
+    assert get_effect("overload_knee").family == "overload"
+
+
 def test_pressure_scales_cornering_stiffness_and_peak():
     fz = np.full(3, 4000.0)
     p = np.array([200e3, 230e3, 260e3])
