@@ -220,6 +220,25 @@ def test_fitter_recovers_a_known_overload_knee_width():
     assert np.all(np.abs(J1 - J2) <= 1e-5 * np.abs(J2).max(axis=0))
 
 
+@pytest.mark.parametrize("effect,truth", [
+    ("load_friction_cubic", {"a1": -15.0, "load_friction_q": 0.08, "load_friction_r": -0.12}),
+    ("curvature_load_curved", {"a6": -0.06, "curvature_q": 0.5}),
+])
+def test_fitter_recovers_the_higher_order_load_laws(effect, truth):
+    """One sweep at each of 6 loads (the layout these variants are for): the terms come back."""
+    grid = rig_grid(loads=(2000.0, 3200.0, 4400.0, 5600.0, 6800.0, 8000.0), cambers_deg=(0.0,), pressures=(220e3,))
+    case = make_case((effect,), "iid", seed=6, sigma=1e-9, grid=grid, sizes={effect: truth})
+    data = prepare(case.data, rated_load=6000.0)
+    base = fit_start(ModelSpec(()), data)
+    spec = ModelSpec((effect,))
+    out = fit(spec, data, x0=spec.start(base.values))
+    for k, v in {**TRUTH_BASE, **truth}.items():
+        assert out.values[k] == pytest.approx(v, rel=1e-4), k
+    f1, J1 = spec.jacobian(out.theta, data.inputs)
+    _, J2 = spec.jacobian(out.theta, data.inputs, method="fd")
+    assert np.all(np.abs(J1 - J2) <= 1e-5 * np.abs(J2).max(axis=0))
+
+
 def test_a_smooth_knee_is_predicted_better_with_its_width_fitted():
     """Validation truth (a softplus knee, not the catalogue's form), one sweep per load: the variant with the
     fitted width predicts the held-out sweeps better than the fixed +-10 % knee, by more than the margin."""

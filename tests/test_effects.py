@@ -147,6 +147,28 @@ def test_overload_knee_width_moves_where_the_loss_starts():
     assert get_effect("overload_knee").family == "overload"
 
 
+def test_cubic_friction_and_curved_curvature_laws():
+    x = grid()
+    dfz = (x.fz - x.fz_ref) / x.fz_ref
+    zero = {f"a{i}": 0.0 for i in range(14)}
+    # D (1 + q dfz^2 + r dfz^3): a2 and a1 scaled point by point
+    v = dict(BASE, a1=-20.0, load_friction_q=0.1, load_friction_r=-0.2)
+    m = 1 + 0.1 * dfz**2 - 0.2 * dfz**3
+    ref = pac89.lateral_force({**zero, **BASE, "a1": -20.0 * m, "a2": BASE["a2"] * m}, x.fz, x.slip_angle, x.camber)
+    np.testing.assert_allclose(lateral_force(v, ["load_friction_cubic"], x), ref, rtol=0, atol=1e-9)
+    # r = 0 is the curved law exactly
+    np.testing.assert_array_equal(lateral_force(dict(v, load_friction_r=0.0), ["load_friction_cubic"], x),
+                                  lateral_force(dict(v, load_friction_r=0.0), ["load_friction_curved"], x))
+    # E = a6 Fz + a7 + c dfz^2: a7 moved point by point
+    v = dict(BASE, a6=-0.05, curvature_q=0.4)
+    ref = pac89.lateral_force({**zero, **BASE, "a6": -0.05, "a7": BASE["a7"] + 0.4 * dfz**2},
+                              x.fz, x.slip_angle, x.camber)
+    np.testing.assert_allclose(lateral_force(v, ["curvature_load_curved"], x), ref, rtol=0, atol=1e-9)
+    # the bend leaves the middle load level alone and is even in dfz
+    assert get_effect("curvature_load_curved").family == "curvature_load"
+    assert get_effect("load_friction_cubic").family == "load_friction"
+
+
 def test_pressure_scales_cornering_stiffness_and_peak():
     fz = np.full(3, 4000.0)
     p = np.array([200e3, 230e3, 260e3])
@@ -219,8 +241,11 @@ def test_testability_rules():
                        pressure_levels=(2e5, 2.4e5), speed_levels=(16.7,), slip_min=-12 * deg, slip_max=12 * deg,
                        rated_load=6500.0)
     ok = {e: EFFECTS[e].why_not_testable(rich) for e in EFFECTS}
-    assert all(ok[e] is None for e in EFFECTS if e != "speed")
+    assert all(ok[e] is None for e in EFFECTS if e not in ("speed", "load_friction_cubic"))
     assert "speed" in ok["speed"]
+    assert "6 load levels" in ok["load_friction_cubic"]  # held out in turn, 5 levels must carry 4 terms
+    assert EFFECTS["load_friction_cubic"].why_not_testable(
+        DataSummary(fz_levels=(2e3, 3.2e3, 4.4e3, 5.6e3, 6.8e3, 8e3), slip_min=-12 * deg, slip_max=12 * deg)) is None
     poor = DataSummary(fz_levels=(4e3, 6e3), camber_levels=(0.0, 2 * deg), slip_min=0.0, slip_max=4 * deg)
     why = {e: EFFECTS[e].why_not_testable(poor) for e in EFFECTS}
     assert "3 load levels" in why["load_friction"]

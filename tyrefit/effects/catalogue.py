@@ -11,8 +11,10 @@ effect frees it.
 Families
 --------
 ``load_friction``   degressive friction with load (a1); the variant ``load_friction_curved`` adds a
-                    curvature of the law, D (1 + q dfz^2) (not PAC89 or MF 6.x: see below)
-``curvature_load``  curvature changing with load (a6)
+                    curvature of the law, D (1 + q dfz^2), ``load_friction_cubic`` its third-order
+                    term, D (1 + q dfz^2 + r dfz^3) (not PAC89 or MF 6.x: see below)
+``curvature_load``  curvature changing with load (a6); ``curvature_load_curved`` bends that law,
+                    E = a6 Fz + a7 + c dfz^2
 ``overload``        grip falling above the rated load (seed 003 Sec. 4.2; not PAC89); the variant
                     ``overload_degressive`` puts the hinge on a degressive trend (a1),
                     ``overload_knee`` fits how wide the knee is (where below the rating the loss starts)
@@ -33,8 +35,19 @@ held-out error stays ~1.25 sigma, above the noise floor, and the diagnosis
 would call a second, wrong family to absorb it.  The second-order term
 ``q dfz^2`` (dfz the MF-style normalised load increment about the middle
 load level) is the Taylor term every smooth law has; it needs >= 4 load
-levels (3 for the straight line plus one to test the bend).  Likewise a grip
-loss above the rated load usually sits on a degressive trend below it ("faster
+levels (3 for the straight line plus one to test the bend).  A law that
+levels off inside the tested range (a tanh-like saturation: an inflection) or
+whose bend grows towards light loads (a power law) still leaves 0.27-0.35
+sigma (held out, one sweep per load) with it; the third-order term
+``r dfz^3`` takes that to 0.14-0.17 sigma and needs >= 6 load levels (each
+sweep held out in turn must leave more levels than the law has friction
+terms).  The curvature factor E gets the same treatment
+(``curvature_load_curved``: a sharpness that changes as a power of the load
+left 0.32 sigma with E linear in Fz, 0.21 with the bend).  Every variant
+stands on held-out evidence like any effect: with noisy or few sweeps the
+diagnosis keeps the simpler law unless the richer one predicts the held-out
+sweeps better by the practical margin.  Likewise a grip loss above the rated
+load usually sits on a degressive trend below it ("faster
 than the smooth load trend", Komana et al.), so ``overload_degressive`` frees
 a1 with the hinge.  Where the loss starts is a property of the tyre, not of
 its load index: the patch caves in gradually, and a rating is a nominal step
@@ -246,6 +259,24 @@ def _apply_load_friction_curved(coef: dict, v: Mapping, x: ModelInputs) -> None:
     _scale_d(coef, 1.0 + q * dfz**2)
 
 
+def _apply_load_friction_cubic(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    q, r = v["load_friction_q"], v["load_friction_r"]
+    if np.all(np.asarray(q) == 0.0) and np.all(np.asarray(r) == 0.0):
+        return  # neutral: the previous model, bit for bit
+    _need(x, "fz", "fz_ref")
+    dfz = (np.asarray(x.fz, dtype=float) - x.fz_ref) / x.fz_ref
+    _scale_d(coef, 1.0 + q * dfz**2 + r * dfz**3)
+
+
+def _apply_curvature_load_curved(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    c = v["curvature_q"]
+    if np.all(np.asarray(c) == 0.0):
+        return  # neutral: the previous model, bit for bit
+    _need(x, "fz", "fz_ref")
+    dfz = (np.asarray(x.fz, dtype=float) - x.fz_ref) / x.fz_ref
+    coef["a7"] = coef["a7"] + c * dfz**2  # E = a6 Fz + a7 + c dfz^2
+
+
 def _apply_speed(coef: dict, v: Mapping, x: ModelInputs) -> None:
     _need(x, "speed", "speed_ref")
     _scale_d(coef, relative_factor(x.speed, x.speed_ref, v["speed_mu"]))
@@ -257,6 +288,10 @@ _A1 = Param("a1", 0.0, (-2000.0, 500.0), (-80.0, 0.0), "N/kN^2", 10.0,
             "degressive friction: D = a1 Fz^2 + a2 Fz")
 _LF_Q = Param("load_friction_q", 0.0, (-3.0, 3.0), (-0.3, 0.3), "-", 0.05,
                "curvature of the friction-load law: D (1 + q dfz^2), dfz = (Fz - Fz_ref)/Fz_ref")
+_LF_R = Param("load_friction_r", 0.0, (-3.0, 3.0), (-0.3, 0.3), "-", 0.05,
+               "third-order term of the friction-load law: D (1 + q dfz^2 + r dfz^3)")
+_E_Q = Param("curvature_q", 0.0, (-5.0, 5.0), (-1.0, 1.0), "-", 0.05,
+             "curvature of the curvature-load law: E = a6 Fz + a7 + c dfz^2")
 _A5 = Param("a5", 0.0, (-0.2, 0.2), (0.0, 0.02), "1/deg", 0.005,
             "cornering-stiffness loss with camber: BCD (1 - a5 |gamma|)")
 _A6 = Param("a6", 0.0, (-2.0, 2.0), (-0.1, 0.1), "1/kN", 0.02, "curvature change with load: E = a6 Fz + a7")
@@ -380,6 +415,11 @@ _NOT_PAC89_CURVED_FRICTION = (
     "the best straight line over the fitted load range. Fit the load range the vehicle uses, or export one "
     "tyre per load range.")
 
+_NOT_PAC89_CURVED_CURVATURE = (
+    "not representable in PAC89 or MF 6.x exactly: both carry a curvature factor linear in load (PAC89 "
+    "E = a6 Fz + a7, MF 6.1 E = PEY1 + PEY2 dfz), so the bend c of the law is lost; a6 (PEY2) takes the "
+    "best straight line over the fitted load range.")
+
 _CARD_CAMBER_BRUSH = PhysicsCard(
     what=("The camber brush model's own camber term (Zhang et al., seed 001): on a leaning tyre the bristles "
           "follow a parabola y = -(a^2 - x^2) sin(gamma)/(2 Re) through the patch (Eq. 18-19), which gives a "
@@ -419,9 +459,17 @@ def _effects() -> list[Effect]:
                (_A1, _LF_Q), "sweeps through the peak at >= 4 load levels", _loads(4, 5.0), _CARD_LOAD_FRICTION,
                "peak_mu_vs_fz", apply=_apply_load_friction_curved, pac89_approx=("a1",),
                pac89_note=_NOT_PAC89_CURVED_FRICTION),
+        Effect("load_friction_cubic", "load_friction", "degressive friction with a third-order load law",
+               (_A1, _LF_Q, _LF_R), "sweeps through the peak at >= 6 load levels", _loads(6, 5.0),
+               _CARD_LOAD_FRICTION, "peak_mu_vs_fz", apply=_apply_load_friction_cubic, pac89_approx=("a1",),
+               pac89_note=_NOT_PAC89_CURVED_FRICTION),
         Effect("curvature_load", "curvature_load", "curvature changing with load", (_A6,),
                "sweeps beyond the peak (|slip| >= 6 deg) at >= 2 load levels", _loads(2, 6.0), _CARD_CURVATURE,
                "slip_at_peak_vs_fz", pac89=("a6",), pac89_note="PAC89 a6 (E = a6 Fz + a7): written to the .tir."),
+        Effect("curvature_load_curved", "curvature_load", "curvature changing with load along a curved law",
+               (_A6, _E_Q), "sweeps beyond the peak (|slip| >= 6 deg) at >= 3 load levels", _loads(3, 6.0),
+               _CARD_CURVATURE, "slip_at_peak_vs_fz", apply=_apply_curvature_load_curved, pac89_approx=("a6",),
+               pac89_note=_NOT_PAC89_CURVED_CURVATURE),
         Effect("overload", "overload", "grip falling above the rated load", (_OV_MU,),
                "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,
                _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload, pac89_approx=("a1",),

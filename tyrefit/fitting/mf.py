@@ -187,7 +187,10 @@ EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
     "load_friction": ("PDY2",),
     # MF 6.1 mu_y is linear in dfz: the curvature of the friction-load law is lost, PDY2 takes the trend
     "load_friction_curved": ("PDY2",),
+    "load_friction_cubic": ("PDY2",),
     "curvature_load": ("PEY2",),
+    # MF 6.1 E is linear in dfz (4.E24): PEY2 takes the trend of a bent curvature law
+    "curvature_load_curved": ("PEY2",),
     # MF 6.1 mu_y is linear in dfz: a fall above the rated load is carried by PDY2 and the curvature
     # law at best; the stiffness fall by PKY4 (the stiffness law's curvature, peak at PKY2 Fz0)
     "overload": ("PDY2", "PEY2"),
@@ -214,6 +217,11 @@ _EFFECT_NOTES = {
              "resistance) are fitted where My is measured",
     "load_friction_curved": "load_friction_curved: MF 6.1 friction is linear in load (PDY2); the curvature of the "
                             "friction-load law is not carried, PDY2 takes the trend over the fitted range",
+    "load_friction_cubic": "load_friction_cubic: MF 6.1 friction is linear in load (PDY2); the bend and "
+                           "third-order term of the friction-load law are not carried, PDY2 takes the trend "
+                           "over the fitted range",
+    "curvature_load_curved": "curvature_load_curved: MF 6.1 curvature is linear in load (PEY2); the bend of "
+                             "the curvature-load law is not carried",
     "overload": "overload: MF 6.1 friction is linear in load (PDY2); a fall beyond the rated load is absorbed by "
                 "PDY2 and PEY2 over the fitted range only",
 }

@@ -165,7 +165,10 @@ def make_case(truth=(), noise: str = "iid", seed: int = 0, sigma: float = 40.0, 
         else:
             grid = rig_grid()
     d = grid.copy()
+    fz_levels = np.sort(d["fz"].unique())
+    middle = d["fz"].to_numpy() == fz_levels[len(fz_levels) // 2]
     d["fz"] = d["fz"] * (1.0 + 0.005 * rng.standard_normal(len(d)))
+    fz_ref = float(np.median(d["fz"].to_numpy()[middle]))  # the middle level's median load, as diagnose takes it
     values = dict(TRUTH_BASE)
     for t in truth:
         values.update((sizes or EFFECT_SIZES)[t])
@@ -176,7 +179,8 @@ def make_case(truth=(), noise: str = "iid", seed: int = 0, sigma: float = 40.0, 
 
     x = ModelInputs(fz=d["fz"].to_numpy(), slip_angle=d["slip_angle"].to_numpy(), camber=d["camber"].to_numpy(),
                     pressure=d["pressure"].to_numpy(), speed=d["speed"].to_numpy(), rated_load=RATED_LOAD,
-                    pressure_ref=ref("pressure"), speed_ref=ref("speed"))
+                    pressure_ref=ref("pressure"), speed_ref=ref("speed"),
+                    fz_ref=fz_ref)
     fy = extended_lateral_force(values, truth, x)
     sweep = pd.factorize(d["run"])[0]
     d["fy"] = fy + _noise(noise, sweep, sigma, rng)

@@ -54,16 +54,17 @@ Effects (each a form outside the catalogue; the catalogue forms it must be told
 apart from are in brackets)
 ------------------------------------------------------------------------------
 ``load_friction_power``  mu = mu0 (Fz / Fz0)^(-n), n = 0.12 (8 % less grip per doubling of
-                         load; degressive friction, [a1: mu linear in Fz])
+                         load; degressive friction, [a1: mu linear in Fz, times 1 + q dfz^2 (+ r dfz^3)])
 ``load_friction_tanh``   mu = mu0 (1 - m tanh((Fz - Fz0) / F_m)), m = 0.15, F_m = 4 kN
 ``curvature``            the saturation sharpness changes with load: q = q0 (Fz / Fz0)^(-k), k = -1.0
                          (q 0.25 at 2 kN, 1.0 at 8 kN: the curve bends over sooner at high load), the curve rescaled so its
                          peak stays mu Fz times the null's: shape only (the rescaling moves the
-                         cornering stiffness by about 1 % over 2-8 kN) [a6: E linear in Fz]
+                         cornering stiffness by about 1 % over 2-8 kN) [a6: E linear in Fz, + c dfz^2]
 ``overload``             a smooth knee of grip past the rated load:
                          mu *= 1 - c w ln(1 + exp((Fz - F_r) / w)) / F_r, c = 0.5, w = 480 N
                          (-8 % at 6.8 kN, -16 % at 8 kN; seed 003 Sec. 4.2 describes grip
-                         falling above the rated load) [a hinge, linear past F_r]
+                         falling above the rated load) [a hinge, linear past F_r, rounded by a
+                         quadratic blend over +-10 % of F_r or a fitted width: not a softplus]
 ``offsets``              ply steer as a slip-angle offset alpha_ps = 0.15 deg, conicity as a
                          force offset F_c = c_c Fz, c_c = -0.012 (48 N at 4 kN): typical
                          uniformity values (conicity and ply-steer forces of 50-150 N at the
