@@ -222,6 +222,7 @@ class _Engine:
         dlev = (float(np.sqrt(np.mean(cur.oof_level[m] ** 2)) - np.sqrt(np.mean(st.oof_level[m] ** 2)))
                 if m.any() else float("nan"))
         rall = lambda o: float(np.sqrt(np.mean(o**2)))  # noqa: E731  (every held-out sweep)
+        J0 = self.start_jacobian(cspec, cur) if noise is not None else None
         ev = {"rmse_heldout": st.rmse_heldout,
               "delta_heldout": cur.rmse_heldout - st.rmse_heldout,
               "rmse_heldout_all": rall(st.oof),
@@ -229,7 +230,7 @@ class _Engine:
               "delta_levelout": dlev,
               "folds_improved": float(np.mean(cur.fold_sse[fin] - st.fold_sse[fin] > 0)) if fin.any() else 0.0,
               "boot_prob": cluster_bootstrap_prob(diff, self.rng),
-              "p_heldout": self.heldout_p(cspec, cur, st, noise),
+              "p_heldout": self.heldout_p(cspec, cur, st, noise, J=J0),
               "evidence": "interpolated sweeps",
               "success": full.success}
         ev["delta_evidence"], ev["p_evidence"] = ev["delta_heldout"], ev["p_heldout"]
@@ -240,24 +241,28 @@ class _Engine:
         if (noise is not None and not self.inside.all()
                 and not (ev["delta_heldout"] >= margin_abs and ev["p_heldout"] < self.s.alpha)
                 and ev["delta_heldout_all"] >= margin_abs):
-            p_all = self.heldout_p(cspec, cur, st, noise, np.ones(d.n, dtype=bool))
+            p_all = self.heldout_p(cspec, cur, st, noise, np.ones(d.n, dtype=bool), J=J0)
             if p_all < self.s.alpha:
                 ev.update(evidence="every held-out sweep (extrapolated ends included)",
                           delta_evidence=ev["delta_heldout_all"], p_evidence=p_all)
         return st, ev
 
-    def heldout_p(self, cspec: ModelSpec, cur: Step, st: Step, noise, mask=None) -> float:
+    def start_jacobian(self, cspec: ModelSpec, cur: Step) -> np.ndarray:
+        """The candidate model's Jacobian at the current model's fit (its new terms neutral)."""
+        return cspec.jacobian(cspec.start(cur.fit.values), self.data.inputs)[1]
+
+    def heldout_p(self, cspec: ModelSpec, cur: Step, st: Step, noise, mask=None, J=None) -> float:
         """p-value of the held-out gain against pure noise (noise-model screening only, else NaN).
 
         The gain on the held-out sweeps ``mask`` (default: the interpolated
         ones) is compared with its null distribution under the estimated noise
         model (:func:`~tyrefit.diagnose.stats.heldout_gain_null`): the second,
-        held-out gate after the score test's screening.
+        held-out gate after the score test's screening.  ``J``: the candidate's
+        Jacobian at the current model (:meth:`start_jacobian`), if already made.
         """
         if noise is None:
             return float("nan")
-        d = self.data
-        _, J = cspec.jacobian(cspec.start(cur.fit.values), d.inputs)
+        J = self.start_jacobian(cspec, cur) if J is None else J
         old = [cspec.names.index(n) for n in cur.spec.names if n in cspec.names]
         new = [i for i, n in enumerate(cspec.names) if n not in cur.spec.names]
         m = self.inside if mask is None else mask
