@@ -164,8 +164,11 @@ def test_cubic_friction_and_curved_curvature_laws():
     ref = pac89.lateral_force({**zero, **BASE, "a6": -0.05, "a7": BASE["a7"] + 0.4 * dfz**2},
                               x.fz, x.slip_angle, x.camber)
     np.testing.assert_allclose(lateral_force(v, ["curvature_load_curved"], x), ref, rtol=0, atol=1e-9)
-    # the bend leaves the middle load level alone and is even in dfz
     assert get_effect("curvature_load_curved").family == "curvature_load"
+    # what a PAC89 .tir keeps of them: the straight laws (a1, a6), never nothing
+    from tyrefit.diagnose.engine import pac89_effects
+    assert pac89_effects(["load_friction_cubic", "curvature_load_curved", "overload_knee"]) == [
+        "load_friction", "curvature_load"]
     assert get_effect("load_friction_cubic").family == "load_friction"
 
 

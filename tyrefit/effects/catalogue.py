@@ -469,7 +469,7 @@ def _effects() -> list[Effect]:
         Effect("curvature_load_curved", "curvature_load", "curvature changing with load along a curved law",
                (_A6, _E_Q), "sweeps beyond the peak (|slip| >= 6 deg) at >= 3 load levels", _loads(3, 6.0),
                _CARD_CURVATURE, "slip_at_peak_vs_fz", apply=_apply_curvature_load_curved, pac89_approx=("a6",),
-               pac89_note=_NOT_PAC89_CURVED_CURVATURE),
+               pac89_note=_NOT_PAC89_CURVED_CURVATURE, extra={"pac89_variant": "curvature_load"}),
         Effect("overload", "overload", "grip falling above the rated load", (_OV_MU,),
                "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,
                _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload, pac89_approx=("a1",),
