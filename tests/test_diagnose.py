@@ -251,6 +251,21 @@ def test_a_smooth_knee_is_predicted_better_with_its_width_fitted():
     assert dg.steps[1].rmse_heldout < 1.15 * case.sigma
 
 
+def test_a_refinement_does_not_name_the_family():
+    """A third-order friction law can mimic a knee at the rated load: on this AR(1) record of the validation's
+    overload truth it predicts the held-out sweeps better than the fitted knee (179.0 against 174.9 N of gain), but
+    it may only refine a family that won on its own laws, so overload is named."""
+    from tyrefit.effects import EFFECTS
+    from tyrefit.synthetic.validation.cases import make_case as make_validation_case
+    assert EFFECTS["load_friction_cubic"].refinement and EFFECTS["curvature_load_curved"].refinement
+    assert not any(EFFECTS[e].refinement for e in ("load_friction", "load_friction_curved", "overload_knee"))
+    case = make_validation_case("load6", "ar1", "overload", 8)
+    dg = diagnose(case.data, rated_load=case.rated_load, seed=8, settings=Settings(max_steps=1))
+    c = dg.candidates
+    assert c["load_friction_cubic"].delta_heldout > c["overload_knee"].delta_heldout  # the mimicry
+    assert dg.accepted == ["overload_knee"]
+
+
 def test_chained_jacobian_matches_finite_differences():
     case = make_case(("overload",), "iid", seed=2)
     data = prepare(case.data, rated_load=6000.0)

@@ -422,6 +422,8 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
             if pa < lev:
                 sig.append((e, cspec, scr.predicted_dssr[k]))
         sig.sort(key=lambda x: -x[2])
+        in_model = {m.family for m in cur.spec.effects}
+        names_family = lambda i: not EFFECTS[i].refinement or EFFECTS[i].family in in_model  # noqa: E731
         confirmed = []
         evaluated = {}
         # refit the strongest families first: those within a factor 4 of the largest predicted error
@@ -458,12 +460,22 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
                     c.status, c.reason = "confirmed, not added", ""
                 else:
                     c.status, c.reason = "significant but not confirmed", why
+            # a refinement (a higher-order law that could mimic another family's) refines a family that is in
+            # the model or confirmed on a simpler variant; it does not name one by itself
+            for i in [i for i in confirmed if not names_family(i)]:
+                if not any(EFFECTS[j].family == EFFECTS[i].family and names_family(j) for j in confirmed):
+                    confirmed.remove(i)
+                    cands[i].status = "significant but not confirmed"
+                    cands[i].reason = (f"a refinement of family {EFFECTS[i].family}: it may refine the family once a "
+                                       f"simpler variant is confirmed, not name it (it could mimic another family)")
             if confirmed:
                 break
         if not confirmed:
             break
-        best = max(confirmed, key=lambda i: evaluated[i][2]["delta_heldout"])
-        fam = EFFECTS[best].family
+        # the family is named by its own laws; a refinement competes only inside a family that won without it
+        fam = EFFECTS[max((i for i in confirmed if names_family(i)),
+                          key=lambda i: evaluated[i][2]["delta_heldout"])].family
+        best = max((i for i in confirmed if EFFECTS[i].family == fam), key=lambda i: evaluated[i][2]["delta_heldout"])
         new = {i: set(evaluated[i][1].spec.names) - set(cur.spec.names) for i in confirmed}
         # within the practical margin of the best, a variant of its family or a candidate whose terms are a
         # subset of the best's (e.g. load_friction's a1 inside overload_degressive's a1 + knee) is as good an

@@ -181,6 +181,11 @@ class Effect:
     card : PhysicsCard
     signature : str
         Which signature view shows it (see :mod:`tyrefit.effects.signatures`).
+    refinement : bool
+        A higher-order form of its family's law (a third-order friction law, a
+        bent curvature law): it may refine the family once the family has won
+        on its other variants, but never names a family by itself - with more
+        terms it can mimic another family's law (a knee at the rated load).
     """
 
     id: str
@@ -197,6 +202,7 @@ class Effect:
     pac89_note: str = ""
     requires_rated_load: bool = False
     extra: dict = field(default_factory=dict)
+    refinement: bool = False
 
     @property
     def param_names(self) -> tuple[str, ...]:

@@ -46,7 +46,11 @@ terms).  The curvature factor E gets the same treatment
 left 0.32 sigma with E linear in Fz, 0.21 with the bend).  Every variant
 stands on held-out evidence like any effect: with noisy or few sweeps the
 diagnosis keeps the simpler law unless the richer one predicts the held-out
-sweeps better by the practical margin.  Likewise a grip loss above the rated
+sweeps better by the practical margin.  Both are *refinements*: with three
+terms a third-order friction law can mimic a knee at the rated load (on one
+sweep per load under AR(1) noise it out-predicted the fitted knee in 4 of 20
+overload records), so they may refine a family once it has won on its other
+variants, never name it.  Likewise a grip loss above the rated
 load usually sits on a degressive trend below it ("faster
 than the smooth load trend", Komana et al.), so ``overload_degressive`` frees
 a1 with the hinge.  Where the loss starts is a property of the tyre, not of
@@ -462,14 +466,15 @@ def _effects() -> list[Effect]:
         Effect("load_friction_cubic", "load_friction", "degressive friction with a third-order load law",
                (_A1, _LF_Q, _LF_R), "sweeps through the peak at >= 6 load levels", _loads(6, 5.0),
                _CARD_LOAD_FRICTION, "peak_mu_vs_fz", apply=_apply_load_friction_cubic, pac89_approx=("a1",),
-               pac89_note=_NOT_PAC89_CURVED_FRICTION),
+               pac89_note=_NOT_PAC89_CURVED_FRICTION, refinement=True),
         Effect("curvature_load", "curvature_load", "curvature changing with load", (_A6,),
                "sweeps beyond the peak (|slip| >= 6 deg) at >= 2 load levels", _loads(2, 6.0), _CARD_CURVATURE,
                "slip_at_peak_vs_fz", pac89=("a6",), pac89_note="PAC89 a6 (E = a6 Fz + a7): written to the .tir."),
         Effect("curvature_load_curved", "curvature_load", "curvature changing with load along a curved law",
                (_A6, _E_Q), "sweeps beyond the peak (|slip| >= 6 deg) at >= 3 load levels", _loads(3, 6.0),
                _CARD_CURVATURE, "slip_at_peak_vs_fz", apply=_apply_curvature_load_curved, pac89_approx=("a6",),
-               pac89_note=_NOT_PAC89_CURVED_CURVATURE, extra={"pac89_variant": "curvature_load"}),
+               pac89_note=_NOT_PAC89_CURVED_CURVATURE, extra={"pac89_variant": "curvature_load"},
+               refinement=True),
         Effect("overload", "overload", "grip falling above the rated load", (_OV_MU,),
                "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,
                _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload, pac89_approx=("a1",),
