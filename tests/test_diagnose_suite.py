@@ -55,17 +55,14 @@ def _load6_rows():
                   verbose=False)
 
 
-#: targets of issue 11 that the measured ceiling puts out of reach under AR(1) noise with rho 0.8 on one sweep per
-#: load: a correctly specified model (the truth in the catalogue's own form) keeps its held-out RMSE under 1.3 sigma
-#: in ~98 % of such records, a catalogue law fitted to an out-of-catalogue truth (0.2-0.25 sigma misfit without
-#: noise) in 80-90 %, and a weak curvature law is found first in ~90 % (see the closing report of issue 11)
+#: the target of issue 11 that the measured ceiling puts out of reach under AR(1) noise with rho 0.8 on one sweep per
+#: load: held-out RMSE <= 1.3 sigma after a friction-load law.  On 80 AR(1) records each of the tanh and power truths
+#: the engine keeps it in 90.0 and 92.5 %; on the same noise draws a correctly specified model (the truth replaced by
+#: its best catalogue-form fit) keeps it in 97.5 % with the straight law, 93.8-96.3 % with the curved and 86.3-88.7 %
+#: with the third-order one: every friction term spent on 5 correlated sweeps costs prediction variance, and the
+#: out-of-catalogue laws need the richer ones (see the closing report of issue 11)
 AR1_CEILING = {("ar1", "load_friction", "held-out RMSE after it <= 1.3 sigma"),
-               ("ar1", "load_friction", "final held-out RMSE <= 1.3 sigma"),
-               ("ar1", "overload", "held-out RMSE after it <= 1.3 sigma"),
-               ("ar1", "overload", "final held-out RMSE <= 1.3 sigma"),
-               ("ar1", "curvature_load", "right family first"),
-               ("ar1", "curvature_load", "held-out RMSE after it <= 1.3 sigma"),
-               ("ar1", "curvature_load", "final held-out RMSE <= 1.3 sigma")}
+               ("ar1", "load_friction", "final held-out RMSE <= 1.3 sigma")}
 
 
 def test_one_sweep_per_load_meets_the_issue_targets():
@@ -75,8 +72,8 @@ def test_one_sweep_per_load_meets_the_issue_targets():
     assert not _clearly_failed(held), _clearly_failed(held)
 
 
-@pytest.mark.xfail(reason="issue 11's held-out and curvature targets under AR(1) rho 0.8 sit at the measured ceiling "
-                          "(see AR1_CEILING); kept so that meeting them shows", strict=False)
+@pytest.mark.xfail(reason="issue 11's held-out target after a friction-load law under AR(1) rho 0.8 sits at the measured "
+                          "ceiling (see AR1_CEILING); kept so that meeting it shows", strict=False)
 def test_one_sweep_per_load_meets_the_ar1_targets_too():
     checks = [c for c in vr.check_targets(_load6_rows(), "load6")
               if (c["noise"], c["family"], c["check"]) in AR1_CEILING]
