@@ -215,7 +215,7 @@ def test_fitter_recovers_a_known_overload_knee_width():
     # the same data through the fixed +-10 % knee: a misfit far above the width-fitted one
     fixed = fit(ModelSpec(("overload",)), data, x0=ModelSpec(("overload",)).start(base.values))
     assert fixed.rmse > 100 * max(out.rmse, 1e-3)
-    f1, J1 = spec.jacobian(out.theta, data.inputs)
+    _, J1 = spec.jacobian(out.theta, data.inputs)
     _, J2 = spec.jacobian(out.theta, data.inputs, method="fd")
     assert np.all(np.abs(J1 - J2) <= 1e-5 * np.abs(J2).max(axis=0))
 
@@ -234,7 +234,7 @@ def test_fitter_recovers_the_higher_order_load_laws(effect, truth):
     out = fit(spec, data, x0=spec.start(base.values))
     for k, v in {**TRUTH_BASE, **truth}.items():
         assert out.values[k] == pytest.approx(v, rel=1e-4), k
-    f1, J1 = spec.jacobian(out.theta, data.inputs)
+    _, J1 = spec.jacobian(out.theta, data.inputs)
     _, J2 = spec.jacobian(out.theta, data.inputs, method="fd")
     assert np.all(np.abs(J1 - J2) <= 1e-5 * np.abs(J2).max(axis=0))
 

@@ -6,8 +6,9 @@
    min-p over the same bootstrap draws
    (:func:`~tyrefit.diagnose.stats.screen_candidates`).
 3. Refit the significant candidates, family by family (every significant
-   variant of the strongest families first), and predict whole held-out sweeps (:meth:`_Engine.crossval`: the held-out
-   evidence) and whole held-out interior load / camber / pressure levels.
+   variant of the strongest families first), and predict whole held-out
+   sweeps (:meth:`_Engine.crossval`: the held-out evidence) and whole
+   held-out interior load / camber / pressure levels.
 4. Accept the best candidate only if it passes the confirmation guards
    (:data:`GUARDS`, plus :data:`MANY_SWEEP_GUARDS` with many sweeps). Variants
    of one family whose held-out errors are within the margin are reported as
@@ -437,7 +438,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
                 sig.append((e, cspec, scr.predicted_dssr[k]))
         sig.sort(key=lambda x: -x[2])
         in_model = {m.family for m in cur.spec.effects}
-        names_family = lambda i: not EFFECTS[i].refinement or EFFECTS[i].family in in_model  # noqa: E731
+        naming = {i for i, e in EFFECTS.items() if not e.refinement or e.family in in_model}  # may name a family
         confirmed = []
         evaluated = {}
         # refit the strongest families first: those within a factor 4 of the largest predicted error
@@ -476,8 +477,8 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
                     c.status, c.reason = "significant but not confirmed", why
             # a refinement (a higher-order law that could mimic another family's) refines a family that is in
             # the model or confirmed on a simpler variant; it does not name one by itself
-            for i in [i for i in confirmed if not names_family(i)]:
-                if not any(EFFECTS[j].family == EFFECTS[i].family and names_family(j) for j in confirmed):
+            for i in [i for i in confirmed if i not in naming]:
+                if not any(EFFECTS[j].family == EFFECTS[i].family and j in naming for j in confirmed):
                     confirmed.remove(i)
                     cands[i].status = "significant but not confirmed"
                     cands[i].reason = (f"a refinement of family {EFFECTS[i].family}: it may refine the family once a "
@@ -487,7 +488,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         if not confirmed:
             break
         # the family is named by its own laws; a refinement competes only inside a family that won without it
-        fam = EFFECTS[max((i for i in confirmed if names_family(i)),
+        fam = EFFECTS[max((i for i in confirmed if i in naming),
                           key=lambda i: evaluated[i][2]["delta_heldout"])].family
         best = max((i for i in confirmed if EFFECTS[i].family == fam), key=lambda i: evaluated[i][2]["delta_heldout"])
         new = {i: set(evaluated[i][1].spec.names) - set(cur.spec.names) for i in confirmed}
