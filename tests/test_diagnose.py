@@ -722,6 +722,10 @@ def test_guards_are_named_and_the_held_out_guard_decides():
     assert "resamples" in engine._confirm({**ev, "delta_heldout": 1.0, "boot_prob": 0.5}, 0.5, s)
     assert engine._confirm({**ev, "delta_heldout": 1.0, "boot_prob": 0.5}, 0.5, s, few_sweeps=True) is None
     assert "noise" in engine._confirm({**ev, "delta_heldout": 1.0, "p_heldout": 0.2}, 0.5, s, few_sweeps=True)
+    # the noise-model screening runs at half the diagnosis' level unless told otherwise; sweep flips at it
+    assert Settings(alpha=0.1).level("noise-model bootstrap") == 0.05
+    assert Settings(alpha=0.1).level("sweep flips") == 0.1
+    assert Settings(alpha=0.1, alpha_noise=0.01).level("noise-model bootstrap") == 0.01
 
 
 def test_heldout_gain_null_is_the_distribution_of_noise_fits():

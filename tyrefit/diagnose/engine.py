@@ -44,7 +44,7 @@ needs p < 0.05/m.
   one sweep per load with AR(1) noise, rho 0.8; REML, pooled variances,
   parameter draws and fast or full double bootstraps did no better, see
   :func:`~tyrefit.diagnose.stats.screen_candidates`).  The noise-model
-  screening therefore runs at ``Settings.alpha_noise`` = alpha / 2, so
+  screening therefore runs at ``Settings.alpha_noise`` (default alpha / 2), so
   that the diagnosis' false-alarm rate stays under alpha with correlated
   noise too (the flips of >= 12 sweeps run at alpha).
 * **Min-p instead of Holm.**  The candidates' directions overlap (load_friction,
@@ -116,7 +116,7 @@ from .advice import build_advice
 from .data import SweepData, prepare
 from .fitter import FitOut, ModelSpec, fit, fit_start
 from .result import Diagnosis
-from .steps import Candidate, Settings, Step, _num  # noqa: F401  (public here too)
+from .steps import Candidate, Settings, Step  # noqa: F401  (public here too)
 from .stats import (MIN_FLIP_SWEEPS, SweepLayout, heldout_gain_null, cluster_bootstrap_prob, cluster_sums, crossval_surface, level_folds, noise_floor,
                     score_test_groups, screen_candidates, sweep_folds)
 
@@ -236,12 +236,11 @@ class _Engine:
         m = np.isfinite(cur.oof_level) & np.isfinite(st.oof_level)
         dlev = (float(np.sqrt(np.mean(cur.oof_level[m] ** 2)) - np.sqrt(np.mean(st.oof_level[m] ** 2)))
                 if m.any() else float("nan"))
-        rall = lambda o: float(np.sqrt(np.mean(o**2)))  # noqa: E731  (every held-out sweep)
         J0 = self.start_jacobian(cspec, cur) if noise is not None else None
         ev = {"rmse_heldout": st.rmse_heldout,
               "delta_heldout": cur.rmse_heldout - st.rmse_heldout,
-              "rmse_heldout_all": rall(st.oof),
-              "delta_heldout_all": rall(cur.oof) - rall(st.oof),
+              "rmse_heldout_all": st.rmse_heldout_all,
+              "delta_heldout_all": cur.rmse_heldout_all - st.rmse_heldout_all,
               "delta_levelout": dlev,
               "folds_improved": float(np.mean(cur.fold_sse[fin] - st.fold_sse[fin] > 0)) if fin.any() else 0.0,
               "boot_prob": cluster_bootstrap_prob(diff, self.rng),
@@ -445,15 +444,15 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
         # reduction (at most `batch` families, every significant variant of each: variants are told apart
         # by their held-out gains below, and near-equal predicted gains must not push the simplest one out);
         # the other families only if none of these is confirmed
-        fams = list(dict.fromkeys(e.family for e, _, _ in sig))
-        batches = [[c for c in sig if c[0].family in fams[b:b + s.batch]] for b in range(0, len(fams), s.batch)]
-        top = sig[0][2] if sig else 0.0
-        if batches:
-            strong = {e.family for e, _, g in batches[0] if g >= 0.25 * top}
-            weak = [c for c in batches[0] if c[0].family not in strong]
-            batches[0] = [c for c in batches[0] if c[0].family in strong]
-            if weak:
-                batches.insert(1, weak)
+        gain: dict[str, float] = {}  # family -> predicted gain of its strongest variant (sig is sorted)
+        for e, _, g in sig:
+            gain.setdefault(e.family, g)
+        fams = list(gain)
+        head = fams[:s.batch]
+        strong = [f for f in head if gain[f] >= 0.25 * gain[fams[0]]]
+        groups = [strong, [f for f in head if f not in strong]] + [fams[b:b + s.batch]
+                                                                     for b in range(s.batch, len(fams), s.batch)]
+        batches = [[c for c in sig if c[0].family in g] for g in groups if g]
         for batch in batches:
             for e, cspec, _ in batch:
                 try:
@@ -731,7 +730,7 @@ def _omnibus(eng: _Engine, J: np.ndarray, groups: list, r: np.ndarray, s: Settin
     """
     if eng.flips:
         return score_test_groups(J, groups, r, eng.data.sweep, eng.G, eng.rng, s.n_boot)
-    scr = screen_candidates(J, groups, r, eng.layout, eng.rng, s.n_boot, s.alpha_noise, "noise")
+    scr = screen_candidates(J, groups, r, eng.layout, eng.rng, s.n_boot, s.level("noise-model bootstrap"), "noise")
     from types import SimpleNamespace
 
     return SimpleNamespace(p_value=float(np.min(scr.p_adjusted)), p_groups=[float(v) for v in scr.p_value],

@@ -93,7 +93,7 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
         "tested together and their p-values adjusted by min-p over the same bootstrap draws (family-wise level "
         f"{dg.settings.level(scr.get('method') or ''):g}"
         + ("" if scr.get("method") == "sweep flips" else
-           f", half the diagnosis' {dg.settings.alpha:g}: the noise model is estimated from the same few sweeps")
+           f", below the diagnosis' {dg.settings.alpha:g}: the noise model is estimated from the same few sweeps")
         + "). The null distribution comes from "
         + ("flips of whole sweeps (residuals along a sweep are correlated, so point-wise tests find effects in "
            "pure noise)" if scr.get("method") == "sweep flips" else

@@ -641,7 +641,8 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
         load-law direction spends one of the few between-sweep degrees of
         freedom that carry the sweep-offset part of the noise, and with the
         cubic friction and bent curvature directions in, the offset noise of
-        one-sided 6-sweep nulls came out low (false alarms 4.5 -> 7.5 % of 200).
+        one-sided 6-sweep nulls came out low (false alarms in 7.5 % of 200
+        records with them, 4.0 % without).
 
     Notes
     -----

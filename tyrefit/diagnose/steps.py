@@ -32,6 +32,7 @@ class Settings:
         under independent noise.  Half of ``alpha`` keeps the diagnosis'
         false-alarm rate under ``alpha`` under either noise; the detectable
         sizes in the advice are computed at this level, so they stay honest.
+        None (default): ``alpha / 2``.
     margin : practical margin, as a fraction of the noise floor, by which an
         effect must lower the held-out RMSE.
     min_boot_prob : share of sweep-bootstrap resamples in which the held-out
@@ -54,7 +55,7 @@ class Settings:
     """
 
     alpha: float = 0.05
-    alpha_noise: float = 0.025
+    alpha_noise: float | None = None
     margin: float = 0.03
     min_boot_prob: float = 0.95
     min_folds_improved: float = 0.6
@@ -70,7 +71,9 @@ class Settings:
 
     def level(self, method: str) -> float:
         """Screening level of a screen made with ``method`` (sweep flips: ``alpha``; noise model: ``alpha_noise``)."""
-        return self.alpha if method == "sweep flips" else self.alpha_noise
+        if method == "sweep flips":
+            return self.alpha
+        return self.alpha / 2.0 if self.alpha_noise is None else self.alpha_noise
 
 
 @dataclass
@@ -101,6 +104,11 @@ class Step:
         """
         r = self.oof[self.inside] if self.inside.any() else self.oof
         return float(np.sqrt(np.mean(r**2)))
+
+    @property
+    def rmse_heldout_all(self) -> float:
+        """RMSE of predictions for every held-out sweep, the extrapolated ones included [N]."""
+        return float(np.sqrt(np.mean(self.oof**2)))
 
     @property
     def rmse_extrapolated(self) -> float:

@@ -254,31 +254,29 @@ def _apply_pressure(coef: dict, v: Mapping, x: ModelInputs) -> None:
         coef["a3"] = coef["a3"] * relative_factor(x.pressure, x.pressure_ref, v["pressure_ky"])
 
 
-def _apply_load_friction_curved(coef: dict, v: Mapping, x: ModelInputs) -> None:
-    q = v["load_friction_q"]
-    if np.all(np.asarray(q) == 0.0):
-        return  # neutral: the previous model, bit for bit
+def _dfz(x: ModelInputs) -> np.ndarray:
+    """MF-style normalised load increment (Fz - Fz_ref)/Fz_ref, Fz_ref the middle load level."""
     _need(x, "fz", "fz_ref")
-    dfz = (np.asarray(x.fz, dtype=float) - x.fz_ref) / x.fz_ref  # MF-style normalised load increment
-    _scale_d(coef, 1.0 + q * dfz**2)
+    return (np.asarray(x.fz, dtype=float) - x.fz_ref) / x.fz_ref
 
 
-def _apply_load_friction_cubic(coef: dict, v: Mapping, x: ModelInputs) -> None:
-    q, r = v["load_friction_q"], v["load_friction_r"]
+def _apply_load_friction_law(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    """D (1 + q dfz^2) (``load_friction_curved``), + r dfz^3 (``load_friction_cubic``)."""
+    q, r = v["load_friction_q"], v.get("load_friction_r", 0.0)
     if np.all(np.asarray(q) == 0.0) and np.all(np.asarray(r) == 0.0):
         return  # neutral: the previous model, bit for bit
-    _need(x, "fz", "fz_ref")
-    dfz = (np.asarray(x.fz, dtype=float) - x.fz_ref) / x.fz_ref
-    _scale_d(coef, 1.0 + q * dfz**2 + r * dfz**3)
+    dfz = _dfz(x)
+    m = 1.0 + q * dfz**2
+    if "load_friction_r" in v:
+        m = m + r * dfz**3
+    _scale_d(coef, m)
 
 
 def _apply_curvature_load_curved(coef: dict, v: Mapping, x: ModelInputs) -> None:
     c = v["curvature_q"]
     if np.all(np.asarray(c) == 0.0):
         return  # neutral: the previous model, bit for bit
-    _need(x, "fz", "fz_ref")
-    dfz = (np.asarray(x.fz, dtype=float) - x.fz_ref) / x.fz_ref
-    coef["a7"] = coef["a7"] + c * dfz**2  # E = a6 Fz + a7 + c dfz^2
+    coef["a7"] = coef["a7"] + c * _dfz(x) ** 2  # E = a6 Fz + a7 + c dfz^2
 
 
 def _apply_speed(coef: dict, v: Mapping, x: ModelInputs) -> None:
@@ -461,11 +459,11 @@ def _effects() -> list[Effect]:
                pac89=("a1",), pac89_note="PAC89 a1 (D = a1 Fz^2 + a2 Fz): written to the .tir."),
         Effect("load_friction_curved", "load_friction", "degressive friction with a curved load law",
                (_A1, _LF_Q), "sweeps through the peak at >= 4 load levels", _loads(4, 5.0), _CARD_LOAD_FRICTION,
-               "peak_mu_vs_fz", apply=_apply_load_friction_curved, pac89_approx=("a1",),
+               "peak_mu_vs_fz", apply=_apply_load_friction_law, pac89_approx=("a1",),
                pac89_note=_NOT_PAC89_CURVED_FRICTION),
         Effect("load_friction_cubic", "load_friction", "degressive friction with a third-order load law",
                (_A1, _LF_Q, _LF_R), "sweeps through the peak at >= 6 load levels", _loads(6, 5.0),
-               _CARD_LOAD_FRICTION, "peak_mu_vs_fz", apply=_apply_load_friction_cubic, pac89_approx=("a1",),
+               _CARD_LOAD_FRICTION, "peak_mu_vs_fz", apply=_apply_load_friction_law, pac89_approx=("a1",),
                pac89_note=_NOT_PAC89_CURVED_FRICTION, refinement=True),
         Effect("curvature_load", "curvature_load", "curvature changing with load", (_A6,),
                "sweeps beyond the peak (|slip| >= 6 deg) at >= 2 load levels", _loads(2, 6.0), _CARD_CURVATURE,

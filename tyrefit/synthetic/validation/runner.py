@@ -231,7 +231,7 @@ def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_
            # per step (start first): held-out RMSE on whole sweeps and on held-out interior levels [N]
            "step_heldout": [float(st.rmse_heldout) for st in dg.steps],
            "step_levelout": [_finite(st.rmse_levelout) for st in dg.steps],
-           "step_heldout_all": [float(np.sqrt(np.mean(st.oof ** 2))) for st in dg.steps],
+           "step_heldout_all": [st.rmse_heldout_all for st in dg.steps],
            # per accepted effect: its held-out gain's p-value against the noise model (NaN with sweep flips)
            "accepted_p_heldout": [_finite(getattr(dg.candidates.get(a), "p_heldout", float("nan"))) for a in acc],
            "margin": float(dg.settings.margin * dg.noise_floor),
