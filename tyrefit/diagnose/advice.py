@@ -31,7 +31,7 @@ import numpy as np
 from ..effects import EFFECTS, FAMILIES
 from .stats import detectable_size
 
-__all__ = ["build_advice", "needs_model", "MF61"]
+__all__ = ["MF61", "build_advice", "needs_model", "peak_reach"]
 
 _DEG = np.pi / 180.0
 #: the words for an effect PAC89 cannot carry and MF 6.1 can (issue 13: the model ladder)
@@ -47,12 +47,72 @@ def _kn(x) -> str:
     return f"{x / 1e3:.1f} kN"
 
 
-def _test(family: str, d, cands, status: str) -> str:
+#: slip range [deg] searched for the fitted force peak
+PEAK_SEARCH_DEG = 30.0
+
+
+def peak_reach(spec, theta, data) -> list[dict]:
+    """Per load level: the slip angle of the fitted force peak against the largest slip measured there.
+
+    The fitted model is evaluated on 0..:data:`PEAK_SEARCH_DEG` deg on the slip side the level's sweeps
+    reach further, at the level's median camber, pressure and speed.  ``peak_deg`` is None
+    when the force still rises at the end of that range (a curve with no peak, as a brush model's).  A load
+    whose sweeps stop before the peak carries its peak force only as an extrapolation of the curve's
+    shape, so there friction level and curvature are not measured apart.
+    """
+    x = data.inputs
+    lv = np.asarray(data.levels["fz"], dtype=float)
+    li = np.asarray(data.level_index["fz"])
+    grid = np.linspace(0.0, PEAK_SEARCH_DEG, 601) * _DEG
+    n = len(grid)
+
+    def full(v):
+        return None if v is None else np.full(n, float(v))
+
+    out = []
+    for k, fz in enumerate(lv):
+        m = li == k
+        if not np.any(m):
+            continue
+        sa = x.slip_angle[m]
+        up, down = max(float(sa.max()), 0.0), max(float(-sa.min()), 0.0)
+        side = 1.0 if up >= down else -1.0
+        inp = x._replace(fz=full(fz), slip_angle=side * grid, camber=full(np.median(x.camber[m])),
+                         pressure=None if x.pressure is None else full(np.median(x.pressure[m])),
+                         speed=None if x.speed is None else full(np.median(x.speed[m])))
+        f = np.abs(spec.predict(theta, inp))
+        j = int(np.argmax(f))
+        peak = None if j >= n - 1 else float(grid[j] / _DEG)
+        reach = max(up, down) / _DEG
+        out.append({"fz_N": float(fz), "peak_deg": peak, "reach_deg": float(reach),
+                    "reached": peak is not None and peak <= reach})
+    return out
+
+
+def _short_of_peak(peaks) -> tuple[list[dict], str]:
+    """The load levels whose sweeps stop before the fitted peak, and a sentence saying so."""
+    short = [p for p in peaks or [] if not p["reached"]]
+    if not short:
+        return [], ""
+    where = ", ".join(_kn(p["fz_N"]) for p in short)
+    at = "; ".join(f"{_kn(p['fz_N'])}: " + (f"peak at ~{p['peak_deg']:.0f} deg" if p["peak_deg"] is not None
+                                             else f"no peak below {PEAK_SEARCH_DEG:.0f} deg")
+                   + f", sweeps to {p['reach_deg']:.0f} deg" for p in short)
+    return short, f"the sweeps at {where} stop before the fitted force peak ({at})"
+
+
+def _test(family: str, d, cands, status: str, peaks=None) -> str:
     """The extra test that would decide ``family`` on data ``d`` (SweepData)."""
     s = d.summary
     fz = np.asarray(s.fz_levels, dtype=float)
     reach = s.slip_extent / _DEG
     lo, hi = fz.min(), fz.max()
+    short, _ = _short_of_peak(peaks)
+    if family in ("load_friction", "curvature_load") and len(fz) >= 2 and short:
+        want = max(p["peak_deg"] or PEAK_SEARCH_DEG * 0.6 for p in short)
+        return (f"sweeps past the force peak (to |slip| >= {min(1.3 * want, PEAK_SEARCH_DEG):.0f} deg, or as far as "
+                f"the rig and the tyre allow) at {', '.join(_kn(p['fz_N']) for p in short)}: where the peak is "
+                "measured, the peak force (friction) and the approach to it (curvature) are measured apart")
     if family == "load_friction":
         if len(fz) < 3:
             want = [0.5 * lo, 1.5 * lo] if len(fz) == 1 else [0.5 * (lo + hi), 1.3 * hi]
@@ -122,12 +182,33 @@ def _detectable(c, data) -> list[dict] | None:
     return out
 
 
-def build_advice(data, cands: dict, accepted: list[str], settings, level: float | None = None) -> list[dict]:
+def _rival_entry(r: dict, peaks) -> dict:
+    """The advice entry of a rival family (see :func:`tyrefit.diagnose.engine._rivals`)."""
+    acc, riv = r["accepted"], r["rival"]
+    fa, fr = EFFECTS[acc].family, EFFECTS[riv].family
+    why = (f"{riv} alone brings {100 * r['share']:.0f} % of the held-out improvement {acc} brought (held-out RMSE "
+           f"{r['rmse_heldout_rival']:.1f} against {r['rmse_heldout_accepted']:.1f} N, round {r['round']}); it was not "
+           f"added once {acc} was in, nor is {acc} confirmed on top of it ({r['accepted_over_rival']}): these data "
+           f"cannot tell {fr} from {fa}; {acc} predicted the held-out sweeps better and was added")
+    _, short = _short_of_peak(peaks)
+    if short and {fa, fr} == {"load_friction", "curvature_load"}:
+        why += (f"; {short}: there the peak force is an extrapolation of the curve's shape, so a fall of friction "
+                "with load and a change of curvature with load bend the measured part of the curves alike")
+    return {"effect": riv, "family": fr, "status": "ambiguous", "why": why, "rival_of": acc,
+            "share": r["share"]}
+
+
+def build_advice(data, cands: dict, accepted: list[str], settings, level: float | None = None,
+                 rivals: list[dict] | None = None, peaks: list[dict] | None = None) -> list[dict]:
     """Advice entries (see the module docstring), one per effect family not settled by the diagnosis.
 
     ``level`` is the screening's level (default ``settings.alpha``): the detectable sizes are at it.
+    ``rivals`` (from the engine): families that explain nearly what an accepted effect explains and were
+    not accepted; each is reported ``ambiguous`` with the accepted one.  ``peaks``
+    (:func:`peak_reach`): whether each load's sweeps pass the fitted force peak, for the tests named.
     """
     level = settings.alpha if level is None else level
+    rival_of = {EFFECTS[r["rival"]].family: r for r in sorted(rivals or [], key=lambda r: r["share"])}
     acc_fams = {EFFECTS[a].family for a in accepted}
     start_fams = {c.family for c in cands.values() if c.status == "in start model"}
     out = []
@@ -135,7 +216,9 @@ def build_advice(data, cands: dict, accepted: list[str], settings, level: float 
         cs = [cands[i] for i in ids]
         statuses = {c.status for c in cs}
         entry = None
-        if fam in acc_fams | start_fams:
+        if fam in rival_of and fam not in acc_fams | start_fams:
+            entry = _rival_entry(rival_of[fam], peaks)
+        elif fam in acc_fams | start_fams:
             tied = [c for c in cs if c.status == "variant not distinguishable"]
             r = data.summary.rated_load
             above = [f for f in data.summary.fz_levels if r is not None and f > 1.02 * r]
@@ -172,7 +255,7 @@ def build_advice(data, cands: dict, accepted: list[str], settings, level: float 
                              "why": c.reason}
         if entry is None:
             continue
-        entry["test"] = _test(fam, data, cands, entry["status"])
+        entry["test"] = _test(fam, data, cands, entry["status"], peaks)
         entry["detectable"] = _detectable(cands[entry["effect"]], data) if entry["status"] != "untestable" else None
         entry["power"] = 0.8
         entry["level"] = level

@@ -112,7 +112,7 @@ import numpy as np
 
 from ..effects import EFFECTS, Effect, get_effect, parse_effects
 from ..errors import DataError, FitError
-from .advice import build_advice
+from .advice import build_advice, peak_reach
 from .data import SweepData, prepare
 from .fitter import FitOut, ModelSpec, fit, fit_start
 from .result import Diagnosis
@@ -406,6 +406,7 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
     for eid in start_ids:
         cands[eid].status, cands[eid].reason = "in start model", ""
     accepted: list[str] = []
+    rivals: list[dict] = []
     screens = []
     rounds = 0
     while len(accepted) < s.max_steps:
@@ -531,6 +532,21 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
             if i not in ties:
                 cands[i].status = "confirmed, not added"
                 cands[i].reason = f"confirmed in round {rounds} but {chosen} explained more; re-screened next round"
+        # another family that alone explains nearly all of it, and on top of which the accepted effect is not
+        # confirmed, is a rival explanation, not a lesser one: reported as ambiguous unless the data later
+        # accept it too (then both are in the model).  Its own random stream leaves the diagnosis unchanged
+        for r in _rivals(chosen, [i for i in confirmed if i in naming], evaluated, new, cur, rounds, s.rival_share):
+            rst = evaluated[r["rival"]][1]
+            main_rng, eng.rng = eng.rng, np.random.default_rng([seed, rounds, len(rivals)])
+            try:
+                _, ev2 = eng.evaluate(rst.spec.with_effect(chosen), rst, margin_abs, scr.noise)
+            except FitError:
+                continue
+            finally:
+                eng.rng = main_rng
+            why = _confirm(ev2, margin_abs, s, few_sweeps=eng.G <= s.loso_max_sweeps)
+            if why is not None:
+                rivals.append({**r, "accepted_over_rival": why})
     # effects covered by an accepted or start variant of their family
     final = steps[-1].spec
     for eid, c in cands.items():
@@ -542,12 +558,45 @@ def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, setti
             c.status, c.reason = "covered", f"its terms are part of {cover[0]}, which is in the model"
     unexplained = _unexplained(eng, steps[-1], floor, s, cands)
     export = _pac89_export(data, steps[-1], eng.fixed)
-    advice = build_advice(data, cands, accepted, s, eng.alpha)
+    acc_fams = {EFFECTS[a].family for a in accepted}
+    rivals = [r for r in rivals if EFFECTS[r["rival"]].family not in acc_fams]
+    peaks = peak_reach(steps[-1].spec, steps[-1].fit.theta, data)
+    advice = build_advice(data, cands, accepted, s, eng.alpha, rivals=rivals, peaks=peaks)
     return Diagnosis(data=data, start=start_ids, accepted=accepted, steps=steps, candidates=cands,
                      noise_floor=floor, noise_floor_per_sweep=floor_per_sweep, settings=s, seed=seed,
                      unexplained=unexplained, export=export, seconds=time.perf_counter() - t0, advice=advice,
+                     peaks=peaks,
                      screening={"method": screens[0].method if screens else None,
                                 "noise_model": screens[-1].noise.to_dict() if screens and screens[-1].noise else None})
+
+
+def _rivals(chosen: str, naming: list[str], evaluated: dict, new: dict, cur: Step, rnd: int,
+            share: float) -> list[dict]:
+    """Confirmed candidates of other families that alone bring >= ``share`` of ``chosen``'s held-out gain.
+
+    The gain is the fall of the held-out mean square error from the current model ``cur``; the best
+    candidate of each other family is compared.  Nested candidates are no rivals: one whose new terms
+    ``new[i]`` contain the accepted one's explains as much by construction, one whose terms are among them
+    was weighed by the parsimony rule already.
+    """
+    base = cur.rmse_heldout ** 2
+    g_acc = base - evaluated[chosen][1].rmse_heldout ** 2
+    fam = EFFECTS[chosen].family
+    best: dict[str, str] = {}
+    for i in naming:
+        f = EFFECTS[i].family
+        if f == fam or new[i] >= new[chosen] or new[i] <= new[chosen]:
+            continue
+        if f not in best or evaluated[i][1].rmse_heldout < evaluated[best[f]][1].rmse_heldout:
+            best[f] = i
+    out = []
+    for f, i in best.items():
+        g = base - evaluated[i][1].rmse_heldout ** 2
+        if g_acc > 0 and g >= share * g_acc:
+            out.append({"accepted": chosen, "rival": i, "round": rnd, "share": float(g / g_acc),
+                        "rmse_heldout_accepted": float(evaluated[chosen][1].rmse_heldout),
+                        "rmse_heldout_rival": float(evaluated[i][1].rmse_heldout)})
+    return out
 
 
 def pac89_effects(effect_ids) -> list[str]:

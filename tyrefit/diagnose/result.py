@@ -41,6 +41,9 @@ class Diagnosis:
     export : dict
         The final model refitted with only what a PAC89 ``.tir`` can hold
         (``effects``, ``rmse`` [N], ``coefficients`` a0..a13).
+    peaks : list of dict
+        Per load level, the final model's force peak against the sweeps' reach
+        (:func:`~tyrefit.diagnose.advice.peak_reach`).
     """
 
     data: SweepData
@@ -57,6 +60,7 @@ class Diagnosis:
     seconds: float = float("nan")
     advice: list = field(default_factory=list)
     screening: dict = field(default_factory=dict)
+    peaks: list = field(default_factory=list)
 
     # -- summaries -------------------------------------------------------------------
     @property
@@ -123,7 +127,9 @@ class Diagnosis:
                                     **({"pressure": list(map(float, d.levels["pressure"]))}
                                        if "pressure" in d.levels else {}),
                                     **({"speed": list(map(float, d.levels["speed"]))} if "speed" in d.levels else {})},
-                     "rated_load": d.inputs.rated_load, "notes": list(d.notes)},
+                     "rated_load": d.inputs.rated_load, "notes": list(d.notes),
+                     # per load: the final model's force peak [deg] against the sweeps' reach [deg]
+                     "peak_reach": [dict(p) for p in self.peaks]},
             "advice": [dict(a) for a in self.advice],
             "screening": dict(self.screening),
             "needs_model": {e: m for e in self.accepted if (m := needs_model(e))},

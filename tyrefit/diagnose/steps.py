@@ -48,6 +48,12 @@ class Settings:
     heldout_extrapolation : count held-out sweeps beyond the training levels
         in ``rmse_heldout`` and in the evidence (default False: they are
         extrapolations, reported apart as ``rmse_extrapolated``).
+    rival_share : a confirmed candidate of another family (not nested with the accepted effect) that
+        alone brings at least this share of the held-out improvement (in mean square) the accepted effect
+        brought is a possible rival; it is reported *ambiguous* with the accepted effect when the accepted
+        effect, added on top of it, fails the confirmation guards and its family is not accepted later
+        either: neither adds to the other, so these data cannot tell the two families apart (e.g. a fall
+        of friction with load and a change of curvature with load when the sweeps stop before the force peak).
     batch : effect families refitted at a time, every significant variant of each (largest predicted
         gain first).
     max_steps : most effects added.
@@ -65,6 +71,7 @@ class Settings:
     loso_max_sweeps: int = 8
     n_boot_heldout: int = 499
     heldout_extrapolation: bool = False
+    rival_share: float = 0.9
     batch: int = 3
     max_steps: int = 8
     max_points_per_sweep: int = 100
