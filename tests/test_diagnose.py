@@ -869,7 +869,7 @@ def _fiala_record(seed, rho=0.8, sigma=40.0):
 
 
 @pytest.mark.parametrize("seed", [7, 9])
-def test_families_these_data_cannot_tell_apart_are_reported_ambiguous_with_the_test_that_decides(seed):
+def test_families_these_data_cannot_tell_apart_are_reported_ambiguous_with_the_test_that_decides(seed, tmp_path):
     # a brush tyre that does not reach its peak within the sweeps: a fall of friction with load and a change of
     # curvature with load bend the measured curves alike, and neither adds to the other under AR(1) noise.
     # Whichever is accepted, the other is reported ambiguous with it, and the test named is sweeps past the peak
@@ -883,6 +883,11 @@ def test_families_these_data_cannot_tell_apart_are_reported_ambiguous_with_the_t
     assert "stop before the fitted force peak" in adv[other]["why"] and "past the force peak" in adv[other]["test"]
     js = json.loads(json.dumps(dg.to_dict(), allow_nan=False))
     assert js["advice"] and any(not p["reached"] for p in js["data"]["peak_reach"])
+    if seed == 7:
+        from tyrefit.diagnose.report import write_report
+
+        html = write_report(dg, tmp_path / "rep").read_text()
+        assert "Where the sweeps stop against the force peak" in html and "stop before the fitted force peak" in html
 
 
 def test_a_tyre_whose_sweeps_pass_the_peak_has_no_rival_for_its_friction_law():

@@ -13,6 +13,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+from matplotlib import cm as plt_cm
 from matplotlib.figure import Figure
 import pandas as pd
 
@@ -171,6 +172,13 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
         r.table(rows)
     else:
         r.p("Nothing left open: every family was testable and settled.")
+    if any(not p["reached"] for p in dg.peaks):
+        fig = Figure(figsize=(6.4, 3.8))
+        _peak_figure(fig.subplots(), dg)
+        r.figure(fig, "Where the sweeps stop against the force peak: the final model per load (lines) extended to "
+                 "30 deg, the measured points (dots), the end of the sweeps (dashed) and the model's peak (circle; "
+                 "none where it still rises at 30 deg). Where the peak is beyond the sweeps, the peak force is an "
+                 "extrapolation of the curve's shape, and friction and curvature laws in load are hard to tell apart.")
 
     # -- accepted effects ------------------------------------------------------------------------
     r.h2("5. The effects that were added")
@@ -260,6 +268,37 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
               "steps.csv": pd.DataFrame([{"effects": "+".join(s.effects), "added": s.added, "rmse_N": s.rmse,
                                           "rmse_heldout_N": s.rmse_heldout} for s in dg.steps]).to_csv(index=False)}
     return r, tables
+
+
+def _peak_figure(ax, dg) -> None:
+    """|Fy| of the final model per load level over 0..30 deg of slip, with the data and the fitted peaks."""
+    from .advice import PEAK_SEARCH_DEG
+
+    d, st = dg.data, dg.final
+    x = d.inputs
+    li = np.asarray(d.level_index["fz"])
+    grid = np.linspace(0.0, PEAK_SEARCH_DEG, 301)
+    cmap = plt_cm.viridis(np.linspace(0.0, 0.9, max(len(dg.peaks), 1)))
+    for k, p in enumerate(dg.peaks):
+        m = li == k
+        sa = x.slip_angle[m]
+        side = 1.0 if sa.max() >= -sa.min() else -1.0
+        n = len(grid)
+        inp = x._replace(fz=np.full(n, p["fz_N"]), slip_angle=side * np.radians(grid),
+                         camber=np.full(n, np.median(x.camber[m])),
+                         pressure=None if x.pressure is None else np.full(n, np.median(x.pressure[m])),
+                         speed=None if x.speed is None else np.full(n, np.median(x.speed[m])))
+        f = np.abs(st.spec.predict(st.fit.theta, inp)) / 1e3
+        c = cmap[k]
+        ax.plot(grid, f, color=c, lw=1.2, label=f"{p['fz_N'] / 1e3:.1f} kN")
+        on = np.sign(sa) == side
+        ax.plot(np.degrees(np.abs(sa[on])), np.abs(d.fy[m][on]) / 1e3, ".", color=c, ms=2.5, alpha=0.6)
+        ax.axvline(p["reach_deg"], color=c, ls="--", lw=0.6)
+        if p["peak_deg"] is not None:
+            ax.plot(p["peak_deg"], np.interp(p["peak_deg"], grid, f), "o", mfc="none", color=c, ms=7)
+    ax.set_xlabel("|slip angle| [deg]")
+    ax.set_ylabel("|Fy| [kN]")
+    ax.legend(fontsize=7, ncol=2, loc="lower right")
 
 
 def write_report(dg, directory: str | os.PathLike, force: bool = False) -> Path:
