@@ -901,6 +901,21 @@ def test_a_tyre_whose_sweeps_pass_the_peak_has_no_rival_for_its_friction_law():
     assert all(p["reached"] and 3.0 < p["peak_deg"] < 12.0 for p in dg.peaks)
 
 
+def test_a_pure_force_offset_growing_with_load_is_found_on_one_sweep_per_load():
+    # conicity alone (a lateral force 0.012 Fz, 24-96 N, no slip shift): only the sweep means carry it.  Judged
+    # against a sweep-offset variance estimated with the trend left in (the start model's residuals), it would
+    # be absorbed as "offset noise" (0 of 20 data sets found that way, stats.screen_candidates Notes)
+    from tyrefit.synthetic.validation.cases import LAYOUTS, layout_frame
+    from tyrefit.synthetic.validation.truth import TruthTyre
+
+    rng = np.random.default_rng(5)
+    d = layout_frame(LAYOUTS["load6"], rng)
+    x = d["fz"].to_numpy(), d["slip_angle"].to_numpy()
+    d["fy"] = TruthTyre(c_con=-0.012).lateral_force(*x) + rng.normal(0.0, 40.0, len(d))
+    dg = diagnose(d, rated_load=6000.0, seed=5)
+    assert dg.accepted and EFFECTS[dg.accepted[0]].family == "offsets"
+
+
 def test_slip_ratio_sweeps_are_left_out_and_combined_slip_needs_mf61():
     # pure cornering sweeps with rig slip-ratio noise (+-0.01, as FSAE TTC) stay; drive/brake sweeps (slip ratio
     # swept at zero slip angle) and combined ones (swept at -3 deg) leave the lateral diagnosis, and combined

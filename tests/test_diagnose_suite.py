@@ -154,9 +154,9 @@ def _plain_mf_record(rng, loads=(2000.0, 3200.0, 4400.0, 5600.0, 6800.0, 8000.0)
 
 def test_shifts_are_not_found_in_sweep_offset_noise_on_a_tyre_the_start_model_represents_exactly():
     """Sweep-offset noise, a null tyre the start model represents exactly, one sweep at each of 6 loads: with
-    the offset variance tau estimated from the model with every candidate, the shifts family's screening leaked
-    (stats.screen_candidates, Notes): on these 200 records 6 alarms, all shifts (11 of another 200, 8 of them
-    shifts); with tau estimated under each family's null, none here."""
+    the bootstrap's sweep offsets from the model with every candidate alone, the shifts family's screening
+    leaked (stats.screen_candidates, Notes): on these 200 records 6 alarms, all shifts (11 of another 200, 8 of
+    them shifts); with the draws' offsets at least the start model's own, 2 here (6 of the other 200)."""
     import numpy as np
 
     from tyrefit.diagnose import diagnose

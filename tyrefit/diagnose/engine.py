@@ -36,11 +36,10 @@ needs p < 0.05/m.
   for correlated noise), bias-corrected by a pilot bootstrap (the projection
   on smooth model directions removes slow noise), and re-estimated in every
   draw (the test is studentised: the uncertainty of the noise model is in the
-  null distribution).  The offset variance, which a family's between-sweep
-  content is weighed against, is estimated under that family's own null
-  (with the other families' directions only), as a score test's nuisance
-  parameters are: from the model with every candidate, sweep-offset noise
-  made the shifts pass on a tyre the start model represents exactly.  With many sweeps the sweep flips stay (no noise model
+  null distribution).  The draws' sweep offsets are at least those of the
+  start model's own residuals (estimated under the null, from every sweep
+  mean): with the full model's alone, sweep-offset noise made the shifts
+  pass on a tyre the start model represents exactly.  With many sweeps the sweep flips stay (no noise model
   to get wrong; today's rates on >= 8-sweep data are kept).
 * **Its level.**  The noise model of 5-11 sweeps is estimated from the same
   data, and the studentised bootstrap absorbs that uncertainty only partly
@@ -226,8 +225,7 @@ class _Engine:
                 J_model = J[:, old]
             Js.append(J[:, new])
         scr = screen_candidates(J_model, Js, cur.resid, self.layout, self.rng, self.s.n_boot, self.alpha,
-                                self.s.test, in_alternative=[not e.refinement for e, _ in cands],
-                                families=[e.family for e, _ in cands])
+                                self.s.test, in_alternative=[not e.refinement for e, _ in cands])
         return scr
 
     def evaluate(self, cspec: ModelSpec, cur: Step, margin_abs: float, noise=None) -> tuple[Step, dict]:
