@@ -248,12 +248,20 @@ def _spike_strategy():
     # not the first or last 2 samples of a sweep (49 each): there the mirrored running median sees two adjacent
     # spikes three times out of five and misses them (a known limit; the turn-over check then refuses the fit)
     inner = st.integers(0, 97).filter(lambda i: 2 <= i % 49 <= 46)
+
+    def median_can_see(spikes):
+        # a running median of 5 passes up to two spikes in any 5 neighbouring samples (screen_sweeps: its
+        # documented limit); three within 5 samples of one sweep carry the median with them
+        idx = sorted(i for i, _ in spikes)
+        return not any(c // 49 == a // 49 and c - a <= 4 for a, c in zip(idx, idx[2:]))
+
     return st.lists(st.tuples(inner, st.sampled_from([-300.0, -20.0, -3.0, 4.0, 25.0, 1000.0])),
-                    min_size=1, max_size=4, unique_by=lambda t: t[0])
+                    min_size=1, max_size=4, unique_by=lambda t: t[0]).filter(median_can_see)
 
 
 def test_any_few_large_spikes_are_found_and_do_not_move_the_tyre(small_clean):
-    """Property (hypothesis): 1-4 samples scaled by -300..1000 anywhere in two sweeps are all left out, and the
+    """Property (hypothesis): 1-4 samples scaled by -300..1000 anywhere in two sweeps (at most two within any 5
+    neighbouring samples, the running median's limit) are all left out, and the
     tyre stays within 1.3x the clean fit's error.  On the steep part near zero slip a spike shifts its
     neighbours' running median by one slip step, which can take out up to two good neighbours per spike
     (harmless: 2 samples of 49 in the sweep); nothing else is left out."""
