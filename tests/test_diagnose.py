@@ -845,8 +845,8 @@ def test_peak_reach_finds_the_magic_formula_peak_and_says_where_the_sweeps_stop_
                 assert p["reached"] == (np.tan(np.pi / (2 * C)) / B <= 12.0)
             else:
                 assert p["peak_deg"] is None and not p["reached"]
-    assert [p["reached"] for p in peak_reach(spec, np.array([{"a0": 1.5, "a2": 1000.0, "a3": 1500.0, "a4": 10.0,
-                                                              "a7": 0.0}[n] for n in spec.names]), d)] == [True, False]
+        if C > 1:  # 9.0 deg at 2 kN (inside the sweeps), 14.2 deg at 8 kN (beyond them)
+            assert [p["reached"] for p in got] == [True, False]
 
 
 def _fiala_record(seed, rho=0.8, sigma=40.0):

@@ -31,7 +31,7 @@ import numpy as np
 from ..effects import EFFECTS, FAMILIES
 from .stats import detectable_size
 
-__all__ = ["MF61", "build_advice", "needs_model", "peak_reach"]
+__all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "needs_model", "peak_reach"]
 
 _DEG = np.pi / 180.0
 #: the words for an effect PAC89 cannot carry and MF 6.1 can (issue 13: the model ladder)
@@ -51,41 +51,45 @@ def _kn(x) -> str:
 PEAK_SEARCH_DEG = 30.0
 
 
+def level_curve(spec, theta, data, k: int, slip) -> tuple[np.ndarray, float, float]:
+    """|Fy| [N] of the model at load level ``k`` over slip angles ``slip`` [rad] (>= 0).
+
+    Evaluated on the slip side the level's sweeps reach further, at the level's median camber, pressure and
+    speed.  Returns |Fy|, that side (+1 or -1) and the level's reach on it [rad].
+    """
+    x = data.inputs
+    m = np.asarray(data.level_index["fz"]) == k
+    sa = x.slip_angle[m]
+    up, down = max(float(sa.max()), 0.0), max(float(-sa.min()), 0.0)
+    side = 1.0 if up >= down else -1.0
+    n = len(slip)
+
+    def med(v):
+        return None if v is None else np.full(n, float(np.median(v[m])))
+
+    inp = x._replace(fz=np.full(n, float(data.levels["fz"][k])), slip_angle=side * np.asarray(slip),
+                     camber=med(x.camber), pressure=med(x.pressure), speed=med(x.speed))
+    return np.abs(spec.predict(theta, inp)), side, max(up, down)
+
+
 def peak_reach(spec, theta, data) -> list[dict]:
     """Per load level: the slip angle of the fitted force peak against the largest slip measured there.
 
-    The fitted model is evaluated on 0..:data:`PEAK_SEARCH_DEG` deg on the slip side the level's sweeps
-    reach further, at the level's median camber, pressure and speed.  ``peak_deg`` is None
+    The model is evaluated by :func:`level_curve` on 0..:data:`PEAK_SEARCH_DEG` deg.  ``peak_deg`` is None
     when the force still rises at the end of that range (a curve with no peak, as a brush model's).  A load
     whose sweeps stop before the peak carries its peak force only as an extrapolation of the curve's
     shape, so there friction level and curvature are not measured apart.
     """
-    x = data.inputs
-    lv = np.asarray(data.levels["fz"], dtype=float)
-    li = np.asarray(data.level_index["fz"])
     grid = np.linspace(0.0, PEAK_SEARCH_DEG, 601) * _DEG
-    n = len(grid)
-
-    def full(v):
-        return None if v is None else np.full(n, float(v))
-
     out = []
-    for k, fz in enumerate(lv):
-        m = li == k
-        if not np.any(m):
+    for k, fz in enumerate(np.asarray(data.levels["fz"], dtype=float)):
+        if not np.any(np.asarray(data.level_index["fz"]) == k):
             continue
-        sa = x.slip_angle[m]
-        up, down = max(float(sa.max()), 0.0), max(float(-sa.min()), 0.0)
-        side = 1.0 if up >= down else -1.0
-        inp = x._replace(fz=full(fz), slip_angle=side * grid, camber=full(np.median(x.camber[m])),
-                         pressure=None if x.pressure is None else full(np.median(x.pressure[m])),
-                         speed=None if x.speed is None else full(np.median(x.speed[m])))
-        f = np.abs(spec.predict(theta, inp))
+        f, _, reach = level_curve(spec, theta, data, k, grid)
         j = int(np.argmax(f))
-        peak = None if j >= n - 1 else float(grid[j] / _DEG)
-        reach = max(up, down) / _DEG
-        out.append({"fz_N": float(fz), "peak_deg": peak, "reach_deg": float(reach),
-                    "reached": peak is not None and peak <= reach})
+        peak = None if j >= len(grid) - 1 else float(grid[j] / _DEG)
+        out.append({"fz_N": float(fz), "peak_deg": peak, "reach_deg": float(reach / _DEG),
+                    "reached": peak is not None and peak <= reach / _DEG})
     return out
 
 
@@ -109,10 +113,12 @@ def _test(family: str, d, cands, status: str, peaks=None) -> str:
     lo, hi = fz.min(), fz.max()
     short, _ = _short_of_peak(peaks)
     if family in ("load_friction", "curvature_load") and len(fz) >= 2 and short:
-        want = max(p["peak_deg"] or PEAK_SEARCH_DEG * 0.6 for p in short)
-        return (f"sweeps past the force peak (to |slip| >= {min(1.3 * want, PEAK_SEARCH_DEG):.0f} deg, or as far as "
-                f"the rig and the tyre allow) at {', '.join(_kn(p['fz_N']) for p in short)}: where the peak is "
-                "measured, the peak force (friction) and the approach to it (curvature) are measured apart")
+        if all(p["peak_deg"] is not None for p in short):
+            far = f"to |slip| >= {min(1.3 * max(p['peak_deg'] for p in short), PEAK_SEARCH_DEG):.0f} deg"
+        else:
+            far = f"the fitted curve still rises at {PEAK_SEARCH_DEG:.0f} deg: as far as the rig and the tyre allow"
+        return (f"sweeps past the force peak ({far}) at {', '.join(_kn(p['fz_N']) for p in short)}: where the peak "
+                "is measured, the peak force (friction) and the approach to it (curvature) are measured apart")
     if family == "load_friction":
         if len(fz) < 3:
             want = [0.5 * lo, 1.5 * lo] if len(fz) == 1 else [0.5 * (lo + hi), 1.3 * hi]

@@ -39,8 +39,9 @@ needs p < 0.05/m.
   null distribution).  The draws' sweep offsets are at least those of the
   start model's own residuals (estimated under the null, from every sweep
   mean): with the full model's alone, sweep-offset noise made the shifts
-  pass on a tyre the start model represents exactly.  With many sweeps the sweep flips stay (no noise model
-  to get wrong; today's rates on >= 8-sweep data are kept).
+  pass on a tyre the start model represents exactly.  With many sweeps the
+  sweep flips stay (no noise model to get wrong; today's rates on >= 8-sweep
+  data are kept).
 * **Its level.**  The noise model of 5-11 sweeps is estimated from the same
   data, and the studentised bootstrap absorbs that uncertainty only partly
   (measured: a nominal 5 % screening rejected 6.7 % of 1000 null records of

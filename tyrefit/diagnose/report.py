@@ -21,7 +21,7 @@ from ..effects import EFFECTS, get_effect
 from ..io.outputs import staged_dir, write_text
 from ..io.report import Report, esc
 from . import views
-from .advice import needs_model
+from .advice import PEAK_SEARCH_DEG, level_curve, needs_model
 
 __all__ = ["write_report", "build_report"]
 
@@ -272,30 +272,22 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
 
 def _peak_figure(ax, dg) -> None:
     """|Fy| of the final model per load level over 0..30 deg of slip, with the data and the fitted peaks."""
-    from .advice import PEAK_SEARCH_DEG
-
     d, st = dg.data, dg.final
-    x = d.inputs
     li = np.asarray(d.level_index["fz"])
     grid = np.linspace(0.0, PEAK_SEARCH_DEG, 301)
-    cmap = plt_cm.viridis(np.linspace(0.0, 0.9, max(len(dg.peaks), 1)))
-    for k, p in enumerate(dg.peaks):
+    colours = plt_cm.viridis(np.linspace(0.0, 0.9, max(len(d.levels["fz"]), 1)))
+    for p in dg.peaks:
+        k = int(np.argmin(np.abs(np.asarray(d.levels["fz"]) - p["fz_N"])))
+        f, side, _ = level_curve(st.spec, st.fit.theta, d, k, np.radians(grid))
+        c = colours[k]
+        ax.plot(grid, f / 1e3, color=c, lw=1.2, label=f"{p['fz_N'] / 1e3:.1f} kN")
         m = li == k
-        sa = x.slip_angle[m]
-        side = 1.0 if sa.max() >= -sa.min() else -1.0
-        n = len(grid)
-        inp = x._replace(fz=np.full(n, p["fz_N"]), slip_angle=side * np.radians(grid),
-                         camber=np.full(n, np.median(x.camber[m])),
-                         pressure=None if x.pressure is None else np.full(n, np.median(x.pressure[m])),
-                         speed=None if x.speed is None else np.full(n, np.median(x.speed[m])))
-        f = np.abs(st.spec.predict(st.fit.theta, inp)) / 1e3
-        c = cmap[k]
-        ax.plot(grid, f, color=c, lw=1.2, label=f"{p['fz_N'] / 1e3:.1f} kN")
+        sa = d.inputs.slip_angle[m]
         on = np.sign(sa) == side
         ax.plot(np.degrees(np.abs(sa[on])), np.abs(d.fy[m][on]) / 1e3, ".", color=c, ms=2.5, alpha=0.6)
         ax.axvline(p["reach_deg"], color=c, ls="--", lw=0.6)
         if p["peak_deg"] is not None:
-            ax.plot(p["peak_deg"], np.interp(p["peak_deg"], grid, f), "o", mfc="none", color=c, ms=7)
+            ax.plot(p["peak_deg"], np.interp(p["peak_deg"], grid, f) / 1e3, "o", mfc="none", color=c, ms=7)
     ax.set_xlabel("|slip angle| [deg]")
     ax.set_ylabel("|Fy| [kN]")
     ax.legend(fontsize=7, ncol=2, loc="lower right")
