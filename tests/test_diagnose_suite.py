@@ -11,6 +11,8 @@ validates nothing.  ``python -m tyrefit.synthetic.validation`` prints the
 same rates for many more cases; here the counts are kept to minutes.
 """
 
+import functools
+
 import pytest
 
 from tyrefit.synthetic.validation import runner as vr
@@ -22,7 +24,7 @@ N_EFFECT, N_NULL = 8, 25
 
 
 def _failed(checks):
-    return [f"{c['noise']} {c['family']} {c['check']}: {c['k']}/{c['n']}" for c in checks if not c["ok"]]
+    return [f"{c['noise']} {c['family']} {c['check']}: {c['k']}/{c['n']}" for c in checks if c["ok"] is False]
 
 
 def _clearly_failed(checks):
@@ -33,7 +35,7 @@ def _clearly_failed(checks):
     """
     out = []
     for c in checks:
-        if c["ok"]:
+        if c["ok"] is None or c["ok"]:  # None: a reference row (the truth-form floor), no target
             continue
         lo, hi = c["ci"]
         if c["check"] == "false alarms":
@@ -49,18 +51,20 @@ def _clearly_failed(checks):
     return out
 
 
+@functools.lru_cache(maxsize=1)
 def _load6_rows():
+    """The slow tier's one-sweep-per-load records, run once for the tests that read them."""
     effects = [e for effs in vr.TARGET_FAMILIES.values() for e in effs]
     return vr.run(vr.plan_cases(["load6"], None, effects + ["null"], n_null=N_NULL, n_effect=N_EFFECT),
                   verbose=False)
 
 
-#: the target of issue 11 that the measured ceiling puts out of reach under AR(1) noise with rho 0.8 on one sweep per
-#: load: held-out RMSE <= 1.3 sigma after a friction-load law.  On 80 AR(1) records each of the tanh and power truths
-#: the engine keeps it in 90.0 and 92.5 %; on the same noise draws a correctly specified model (the truth replaced by
-#: its best catalogue-form fit) keeps it in 97.5 % with the straight law, 93.8-96.3 % with the curved and 86.3-88.7 %
-#: with the third-order one: every friction term spent on 5 correlated sweeps costs prediction variance, and the
-#: out-of-catalogue laws need the richer ones (see the closing report of issue 11)
+#: the target of issue 11 that the data put out of reach under AR(1) noise with rho 0.8 on one sweep per load:
+#: held-out RMSE <= 1.3 sigma after a friction-load law in >= 95 % of sets.  The truth's own form refitted with every
+#: shape parameter free and the same sweeps held out (``ceiling.truth_form_heldout``) keeps it in 91 % of 80 tanh and
+#: 97.5 % of 80 power-law AR(1) records (the engine: 90 and 92.5 % on the same draws); the rest is the held-out
+#: sweep's own correlated noise and the estimation error of any model from 5 such sweeps.
+#: ``test_the_held_out_error_after_the_right_effect_is_what_the_data_allow`` tests the engine against that floor.
 AR1_CEILING = {("ar1", "load_friction", "held-out RMSE after it <= 1.3 sigma"),
                ("ar1", "load_friction", "final held-out RMSE <= 1.3 sigma")}
 
@@ -78,6 +82,27 @@ def test_one_sweep_per_load_meets_the_ar1_targets_too():
     checks = [c for c in vr.check_targets(_load6_rows(), "load6")
               if (c["noise"], c["family"], c["check"]) in AR1_CEILING]
     assert not _failed(checks), _failed(checks)
+
+
+def test_the_held_out_error_after_the_right_effect_is_what_the_data_allow():
+    # paired on the same records: where the engine misses 1.3 sigma (or the right family) but the truth's own form,
+    # refitted and held out alike, does not, against the reverse; the engine must not be clearly worse (exact
+    # one-sided sign test of the discordant pairs, McNemar), under any noise model
+    from scipy.stats import binom
+
+    rows = [r for r in _load6_rows() if r["effect"] is not None and "error" not in r]
+    assert rows and all(r.get("ratio_truth_form") is not None for r in rows)
+    lim = vr.TARGETS["ratio"]
+    worse = [r["key"] for r in rows if r["ratio_truth_form"] <= lim
+             and not (r["right_first"] and r["ratio_first"] is not None and r["ratio_first"] <= lim)]
+    better = [r["key"] for r in rows if r["ratio_truth_form"] > lim
+              and r["right_first"] and r["ratio_first"] is not None and r["ratio_first"] <= lim]
+    n = len(worse) + len(better)
+    p = binom.sf(len(worse) - 1, n, 0.5) if n else 1.0
+    assert p > 0.01, (worse, better)
+    # and the model after the right effect is near the tyre: a rerun's expected RMSE <= 1.3 sigma
+    far = [r["key"] for r in rows if r["right_first"] and r["model_error_first"] > (lim**2 - 1.0) ** 0.5]
+    assert len(far) <= 0.05 * len(rows), far
 
 
 def test_eight_sweeps_and_more_keep_their_rates():

@@ -302,3 +302,79 @@ def test_invariant_checks_fail_on_an_accepted_effect_that_does_not_hold_up():
     bad = good + [row([60.0, 42.0, 41.8], [55.0, 44.0, 44.5], [0.002, 0.2])]
     checks = {c["check"]: c for c in vr.invariant_checks(bad)}
     assert [c["k"] for c in checks.values()] == [3, 3, 3] and not any(c["ok"] for c in checks.values())
+
+
+# --- the truth-form floor and the rerun of a test (ceiling.py) ------------------------------------------------------
+
+def test_refitting_the_truth_form_recovers_its_laws_from_a_wrong_start():
+    from dataclasses import replace
+
+    from tyrefit.synthetic.validation.ceiling import free_parameters, refit_truth
+
+    case = vc.make_case("load6", "iid", "load_friction_tanh", 0, sigma=0.0)
+    assert {"f_m", "m_tanh", "mu0", "k_max"} <= set(free_parameters(case.tyre))
+    d = case.data
+    wrong = replace(case.tyre, mu0=1.1, m_tanh=0.05, f_m=6000.0, k_max=120e3, q0=0.8)
+    t = refit_truth(wrong, *(d[c].to_numpy() for c in ("fz", "slip_angle", "camber", "pressure")), case.truth_fy)
+    for name, want in (("mu0", 1.0), ("m_tanh", 0.15), ("f_m", 4000.0), ("k_max", 140e3), ("q0", 0.5)):
+        assert getattr(t, name) == pytest.approx(want, rel=2e-3), name
+
+
+def test_the_truth_form_floor_holds_out_the_interior_sweeps():
+    from tyrefit.synthetic.validation.ceiling import interior_sweeps, refit_truth, truth_form_heldout
+
+    case = vc.make_case("load6", "ar1", "load_friction_power", 3)
+    runs = interior_sweeps(case)
+    load = case.data.groupby("run")["fz"].mean()
+    assert len(runs) == 4 and load.idxmin() not in runs and load.idxmax() not in runs
+    with pytest.raises(ValueError, match="one sweep per load"):
+        interior_sweeps(vc.make_case("grid8", "iid", None, 0))
+    floor = truth_form_heldout(case)
+    # fitted to every sweep, the same form predicts those sweeps better than when each is held out
+    d = case.data
+    cols = [d[c].to_numpy() for c in ("fz", "slip_angle", "camber", "pressure")]
+    full = refit_truth(case.tyre, *cols, d["fy"].to_numpy())
+    m = d["run"].isin(runs).to_numpy()
+    insample = np.sqrt(np.mean((full.lateral_force(*cols) - d["fy"].to_numpy())[m] ** 2)) / case.sigma
+    assert floor["ratio"] > insample
+    assert 0.0 < floor["error"] < 1.0  # estimated, so not exact; a sensible fit, so well inside the noise
+    tiny = truth_form_heldout(vc.make_case("load6", "ar1", "load_friction_power", 3, sigma=1e-3))
+    assert tiny["error"] * 1e-3 < 0.05  # N: with (almost) no noise the held-out sweeps are predicted exactly
+
+
+def test_a_rerun_of_the_test_has_the_same_tyre_and_set_points_and_new_noise():
+    a, b = vc.make_case("load6", "ar1", "offsets", 4), vc.make_case("load6", "ar1", "offsets", 4, repeat=1)
+    assert vc.make_case("load6", "ar1", "offsets", 4, repeat=0).data.equals(a.data)
+    assert a.tyre == b.tyre and (a.data["run"] == b.data["run"]).all()
+    assert np.allclose(a.data["slip_angle"], b.data["slip_angle"])
+    assert np.allclose(a.data["fz"], b.data["fz"], rtol=0.05) and not np.allclose(a.data["fz"], b.data["fz"])
+    na, nb = a.data["fy"] - a.truth_fy, b.data["fy"] - b.truth_fy
+    assert abs(np.corrcoef(na, nb)[0, 1]) < 0.15
+
+
+def test_run_case_scores_the_model_on_the_rerun_and_the_floor():
+    row = vr.run_case("load6", "iid", "curvature", seed=2)
+    assert row["right_first"], row
+    # a fitted model on new data: about the noise (its own error adds little), not its in-sample fit; the
+    # start model on a curvature truth is far off, the model after the right effect close to the truth
+    assert 0.9 < row["rerun_first"] < 1.2 and row["rerun"] != row["ratio"]
+    assert row["model_error_first"] < 0.5 < row["ratio_first"]
+    assert 0.9 < row["ratio_truth_form"] < 1.3 and 0.0 < row["model_error_truth_form"] < row["model_error_first"]
+    null = vr.run_case("grid8", "iid", None, seed=1)
+    assert "ratio_truth_form" not in null and 0.9 < null["rerun"] < 1.2 and null["model_error"] < 0.3
+
+
+def test_model_scores_use_the_fitted_data_reference_values_and_reject_another_case():
+    from tyrefit.diagnose import diagnose
+    from tyrefit.synthetic.validation.ceiling import model_scores
+
+    case = vc.make_case("load6", "iid", "load_friction_tanh", 1)
+    dg = diagnose(case.data, rated_load=case.rated_load, seed=1)
+    assert any(e.startswith("load_friction_curved") or e.startswith("load_friction_cubic") for e in dg.accepted)
+    sc = model_scores(dg.steps, case, vc.make_case("load6", "iid", "load_friction_tanh", 1, repeat=1))
+    assert sc[0]["error"] > 2.0 and sc[-1]["error"] < 0.4  # the start model vs the model with the law
+    # the same model scored on its own data again (a "rerun" that is the case): the in-sample RMSE
+    own = model_scores(dg.steps[-1:], case, case)[0]["rerun"]
+    assert own == pytest.approx(dg.steps[-1].rmse / case.sigma, rel=1e-9)
+    with pytest.raises(ValueError, match="same case"):
+        model_scores(dg.steps, case, vc.make_case("load6", "iid", "load_friction_tanh", 2, repeat=1))

@@ -183,21 +183,23 @@ class Case:
         return f"{self.layout}/{self.noise}/{self.effect or 'null'}/{self.seed}"
 
 
-def _seed(layout: str, kind: str, effect: str | None, seed: int) -> np.random.SeedSequence:
+def _seed(layout: str, kind: str, effect: str | None, seed: int, repeat: int = 0) -> np.random.SeedSequence:
     words = [zlib.crc32(s.encode()) for s in (layout, kind, effect or "null")]
-    return np.random.SeedSequence([*words, int(seed)])
+    return np.random.SeedSequence([*words, int(seed)] + ([int(repeat)] if repeat else []))
 
 
 def make_case(layout: str | Layout, noise_model: str = "iid", effect: str | None = None, seed: int = 0,
-              sigma: float = SIGMA) -> Case:
+              sigma: float = SIGMA, repeat: int = 0) -> Case:
     """Generate one case: the truth tyre (null, or null + ``effect``) on ``layout`` with noise.
 
     Deterministic in (layout, noise model, effect, seed).  ``effect=None`` is a null case.
+    ``repeat`` = k > 0 gives the k-th independent rerun of the same test: the same tyre and set points,
+    new load jitter and new noise (held-out data for the fitted model; ``repeat=0`` is the case itself).
     """
     lay = LAYOUTS[layout] if isinstance(layout, str) else layout
     if noise_model not in NOISE_MODELS:
         raise ValueError(f"unknown noise model {noise_model!r}; known: {', '.join(NOISE_MODELS)}")
-    rng = np.random.default_rng(_seed(lay.name, noise_model, effect, seed))
+    rng = np.random.default_rng(_seed(lay.name, noise_model, effect, seed, repeat))
     tyre = TruthTyre.with_effects((effect,) if effect else ())
     d = layout_frame(lay, rng)
     fy = tyre.lateral_force(d["fz"].to_numpy(), d["slip_angle"].to_numpy(), d["camber"].to_numpy(),
