@@ -261,10 +261,11 @@ def _spike_strategy():
 
 def test_any_few_large_spikes_are_found_and_do_not_move_the_tyre(small_clean):
     """Property (hypothesis): 1-4 samples scaled by -300..1000 anywhere in two sweeps (at most two within any 5
-    neighbouring samples, the running median's limit) are all left out, and the
-    tyre stays within 1.3x the clean fit's error.  On the steep part near zero slip a spike shifts its
-    neighbours' running median by one slip step, which can take out up to two good neighbours per spike
-    (harmless: 2 samples of 49 in the sweep); nothing else is left out."""
+    neighbouring samples, the running median's limit) are all left out, nothing else is, and the tyre stays
+    within 1.3x the clean fit's error.  On the steep part near zero slip a spike shifts its neighbours'
+    running median by one slip step; the second pass (the running median without the flagged samples)
+    gives those good neighbours back (without it, a spike at -2.5 deg also took out its neighbour at
+    -1.5 deg, and two spikes 5 samples apart three good samples, which moved the tyre 1.31x)."""
     from hypothesis import HealthCheck, given, settings
 
     df0, err0 = small_clean
@@ -274,11 +275,13 @@ def test_any_few_large_spikes_are_found_and_do_not_move_the_tyre(small_clean):
     def check(spikes):
         df = df0.copy()
         for i, f in spikes:
-            df.loc[i, "fy"] = df.loc[i, "fy"] * f + np.sign(f) * 2e4   # at least 20 kN off: a spike anywhere
+            # scaled by f and pushed 20 kN further the same way: at least 20 kN off, a spike anywhere (adding
+            # sign(f) 20 kN instead put f = 4 at -6.4 kN back within 0.7 kN of the curve: no spike at all)
+            y = df.loc[i, "fy"]
+            df.loc[i, "fy"] = y * f + np.sign(y * f - y or f) * 2e4
         r = fit_pac89(df)
         out, want = set(r.screening["lateral"]["index"]), {i for i, _ in spikes}
-        assert want <= out and len(out - want) <= 2 * len(want)
-        assert all(min(abs(j - i) for i in want) <= 2 for j in out - want)
+        assert out == want
         assert tyre_error(r.values, loads=(3000.0, 6000.0)) < 1.3 * err0
 
     check()

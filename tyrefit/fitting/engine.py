@@ -344,6 +344,31 @@ def _mad_sigma(e: np.ndarray, group: np.ndarray) -> np.ndarray:
     return 1.4826 * _sweep_median(dev, group)
 
 
+def _restored(x: np.ndarray, y: np.ndarray, group: np.ndarray, flagged: np.ndarray, thr: np.ndarray) -> np.ndarray:
+    """Flagged samples that lie on their sweep once the flagged ones are taken out (Hampel's second pass).
+
+    On the steep part of a curve a spike in the window shifts the running
+    median of its good neighbours by a slip step, which can exceed the
+    threshold there.  The running median of each sweep's unflagged samples,
+    interpolated in slip at the flagged ones, is the curve without the
+    spikes: a flagged sample within ``thr`` of it is restored.
+    """
+    back = np.zeros(len(y), dtype=bool)
+    for g in np.unique(group[flagged]):
+        idx = np.flatnonzero(group == g)
+        clean = idx[~flagged[idx]]
+        if len(clean) < 5:
+            continue
+        o = clean[np.argsort(x[clean], kind="stable")]
+        xc, mc = x[o], _running_median(y[o], np.zeros(len(o), dtype=int))
+        xc, first = np.unique(xc, return_index=True)
+        fl = idx[flagged[idx]]
+        inside = (x[fl] >= xc[0]) & (x[fl] <= xc[-1])  # beyond the clean samples: no curve to compare with
+        m2 = np.interp(x[fl], xc, mc[first])
+        back[fl] = inside & (np.abs(y[fl] - m2) <= thr[fl])
+    return back
+
+
 def screen_sweeps(df: pd.DataFrame, force: str, slip: str) -> tuple[np.ndarray, dict]:
     """Samples to keep, and what was left out: lift-off samples, load spikes, force spikes.
 
@@ -354,7 +379,9 @@ def screen_sweeps(df: pd.DataFrame, force: str, slip: str) -> tuple[np.ndarray, 
     * **load spike**: in record order, Fz departs from its 5-point running median by
       more than max(``LOAD_SPIKE`` x the median load, ``SPIKE_K`` robust sigmas);
     * **force spike**: in slip order, F departs from its 5-point running median by
-      more than max(``SPIKE_K`` robust sigmas, ``SPIKE_MIN`` x the sweep's peak |F|).
+      more than max(``SPIKE_K`` robust sigmas, ``SPIKE_MIN`` x the sweep's peak |F|),
+      and still does from the running median of the sweep without the flagged
+      samples (a good neighbour of a spike on the steep part is given back).
 
     The robust sigma is 1.4826 x the median absolute deviation of the departures
     (Hampel's identifier, as in Pearson, "Outliers in process modeling and
@@ -392,7 +419,9 @@ def screen_sweeps(df: pd.DataFrame, force: str, slip: str) -> tuple[np.ndarray, 
     m[o] = _running_median(y[o], code[o])
     d = y - m
     peak = pd.Series(np.abs(m)).groupby(code).transform("max").to_numpy()
-    fspike = long_ & ~low & ~lspike & (np.abs(d) > np.maximum(SPIKE_K * _mad_sigma(d, code), SPIKE_MIN * peak))
+    thr = np.maximum(SPIKE_K * _mad_sigma(d, code), SPIKE_MIN * peak)
+    fspike = long_ & ~low & ~lspike & (np.abs(d) > thr)
+    fspike &= ~_restored(x, y, code, fspike, thr)
     out = low | lspike | fspike
     runs = pd.unique(run[out]).tolist()
     report = {"low_load": int(low.sum()), "load_spikes": int(lspike.sum()), "force_spikes": int(fspike.sum()),
