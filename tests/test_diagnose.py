@@ -809,6 +809,13 @@ def test_cli_diagnose_static_pushes_with_patch(tmp_path, capsys):
     adv = {a["family"]: a for a in js["advice"]}
     assert adv["offsets"]["status"] == "untestable"
     assert "advice" in capsys.readouterr().out
+    # one load level per push, from the pushes' set points: the measured load wanders along a push (up to 8 %
+    # on these data), and levels found in it split the six pushes into twelve "loads"
+    assert len(js["data"]["conditions"]["fz"]) == js["data"]["sweeps"] == 6
+    # the generator's truck A has grip falling past the rated load and a curvature factor changing with load
+    # (data/truck/truth.json: overload_slope, a6); both are named from the static pushes alone
+    fams = {EFFECTS[a].family for a in js["accepted"]}
+    assert {"overload", "curvature_load"} <= fams, js["accepted"]
 
 
 def test_overload_on_one_level_above_the_rating_is_flagged_ambiguous_with_the_test_that_decides():

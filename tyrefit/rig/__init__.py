@@ -70,7 +70,8 @@ class StaticFitInput:
     data : Dataset
         kind ``'slip_angle'``; columns ``run``, ``fz`` (measured) [N], ``fy``
         [N] and ``slip_angle`` [rad] in ISO-W (positive slip angle, negative
-        ``fy``), ``pressure`` [Pa] where known: the samples of the chosen part.
+        ``fy``), ``pressure`` [Pa] and ``load`` (the push's set point) [N]
+        where known: the samples of the chosen part.
     converted : DataFrame
         every static sample with ``u`` (= Delta y / L), ``length`` [m],
         ``slip_angle`` [rad], ``mu`` and ``part`` ('rising' / 'sliding').
@@ -371,6 +372,10 @@ def prepare_static_fit(static_ds, patch_ds, *, rig: RigCalibration | None = None
                         "fy": -sel["fy"].to_numpy(float), "slip_angle": sel["slip_angle"].to_numpy(float)})
     if "pressure" in sel:
         out["pressure"] = sel["pressure"].to_numpy(float)
+    if "load" in sel and sel["load"].notna().all():
+        # the push's load set point: the measured load wanders along a push (by 8 % on the bundled truck
+        # pushes), and diagnosis and MF fits take their load levels from the set point when there is one
+        out["load"] = sel["load"].to_numpy(float)
     warn_msgs = rig.warn(sel["u"].to_numpy(float), sel["fz"].to_numpy(float),
                          None if pressure is None else sel["pressure"].to_numpy(float),
                          where=ssrc or "static data")
