@@ -816,6 +816,15 @@ def test_cli_diagnose_static_pushes_with_patch(tmp_path, capsys):
     # (data/truck/truth.json: overload_slope, a6); both are named from the static pushes alone
     fams = {EFFECTS[a].family for a in js["accepted"]}
     assert {"overload", "curvature_load"} <= fams, js["accepted"]
+    # without a set-point column each push's load is its load at zero displacement: still one level per push
+    src = pd.read_csv(data_path("truck", "tyre_a_static.csv"), comment="#")
+    bare = tmp_path / "no_setpoint.csv"
+    src.drop(columns=["load [kg]"]).to_csv(bare, index=False)
+    out2 = tmp_path / "s2.json"
+    assert main(["diagnose", str(bare), "--patch", str(data_path("truck", "tyre_a_patch.csv")), "--rated-load",
+                 "41680", "--json", str(out2)]) == 0
+    js2 = json.loads(out2.read_text())
+    assert len(js2["data"]["conditions"]["fz"]) == js2["data"]["sweeps"] == 6
 
 
 def test_overload_on_one_level_above_the_rating_is_flagged_ambiguous_with_the_test_that_decides():

@@ -372,10 +372,12 @@ def prepare_static_fit(static_ds, patch_ds, *, rig: RigCalibration | None = None
                         "fy": -sel["fy"].to_numpy(float), "slip_angle": sel["slip_angle"].to_numpy(float)})
     if "pressure" in sel:
         out["pressure"] = sel["pressure"].to_numpy(float)
-    if "load" in sel and sel["load"].notna().all():
-        # the push's load set point: the measured load wanders along a push (by 8 % on the bundled truck
-        # pushes), and diagnosis and MF fits take their load levels from the set point when there is one
-        out["load"] = sel["load"].to_numpy(float)
+    # each push's load set point (the file's, else the load at zero displacement, as analyse_static takes
+    # it): the measured load wanders along a push (by 8 % on the bundled truck pushes), and diagnosis and
+    # MF fits take their load levels from the set point when there is one
+    set_load = {rr.run: rr.load for rr in static.runs}
+    out["load"] = (sel["load"].to_numpy(float) if "load" in sel and sel["load"].notna().all()
+                   else sel["run"].map(set_load).to_numpy(float))
     warn_msgs = rig.warn(sel["u"].to_numpy(float), sel["fz"].to_numpy(float),
                          None if pressure is None else sel["pressure"].to_numpy(float),
                          where=ssrc or "static data")
