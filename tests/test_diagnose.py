@@ -809,6 +809,10 @@ def test_cli_diagnose_static_pushes_with_patch(tmp_path, capsys):
     adv = {a["family"]: a for a in js["advice"]}
     assert adv["offsets"]["status"] == "untestable"
     assert "advice" in capsys.readouterr().out
+    # in a static-rig engineer's words: pushes (to both sides, past the static peak), not sweeps, and no speed
+    assert all("sweep" not in a["test"] and "sweep" not in a["why"] for a in js["advice"]), js["advice"]
+    assert "pushes to both sides of the centred tyre" in adv["offsets"]["test"]
+    assert "dynamic-rig" in adv["speed"]["test"]
     # one load level per push, from the pushes' set points: the measured load wanders along a push (up to 8 %
     # on these data), and levels found in it split the six pushes into twelve "loads"
     assert len(js["data"]["conditions"]["fz"]) == js["data"]["sweeps"] == 6

@@ -31,7 +31,7 @@ import numpy as np
 from ..effects import EFFECTS, FAMILIES
 from .stats import detectable_size
 
-__all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "needs_model", "peak_reach"]
+__all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "needs_model", "peak_reach", "static_words"]
 
 _DEG = np.pi / 180.0
 #: the words for an effect PAC89 cannot carry and MF 6.1 can (issue 13: the model ladder)
@@ -173,6 +173,35 @@ def _test(family: str, d, cands, status: str, peaks=None) -> str:
     return "more sweeps"
 
 
+#: the advice's words for static-rig pushes converted with Eq. 1, in order (the longer phrases first): a static
+#: rig pushes the standing tyre sideways from the centred position, one way per push, and has no rolling speed
+_STATIC_WORDS = (
+    ("slip sweeps through zero in both directions", "pushes to both sides of the centred tyre"),
+    ("sweeps through zero in both slip directions", "pushes to both sides of the centred tyre"),
+    ("centred tyre (e.g.", "centred tyre (converted slip, e.g."),
+    ("|slip angle|", "|converted slip angle|"),
+    ("repeat the sweeps through zero (both directions)", "repeat the pushes to both sides"),
+    ("the sweep through zero", "the pushes to both sides"),
+    ("slip sweeps through the peak", "pushes through the static peak force"),
+    ("extend the sweeps past the peak", "carry the pushes past the static peak force"),
+    ("sweeps past the force peak", "pushes carried past the static peak force"),
+    ("sweeps past the peak", "pushes carried past the static peak force"),
+    ("sweeps through the peak", "pushes through the static peak force"),
+    ("extend the slip range", "carry the pushes further"),
+    ("|slip| >=", "a converted slip >="),
+    ("slip sign", "push direction"),
+    ("sweeps", "pushes"),
+    ("sweep", "push"),
+)
+
+
+def static_words(text: str) -> str:
+    """``text`` in a static-rig engineer's words (pushes, not sweeps; see ``_STATIC_WORDS``)."""
+    for old, new in _STATIC_WORDS:
+        text = text.replace(old, new)
+    return text
+
+
 def _detectable(c, data) -> list[dict] | None:
     info = getattr(c, "info", None)
     if not info or not np.isfinite(getattr(c, "critical", np.nan)):
@@ -262,6 +291,10 @@ def build_advice(data, cands: dict, accepted: list[str], settings, level: float 
         if entry is None:
             continue
         entry["test"] = _test(fam, data, cands, entry["status"], peaks)
+        if getattr(data, "static_pushes", False):
+            entry["why"], entry["test"] = static_words(entry["why"]), static_words(entry["test"])
+            if fam == "speed":
+                entry["test"] = "a dynamic-rig test at two speeds (e.g. 40 and 100 km/h): a static push does not roll"
         entry["detectable"] = _detectable(cands[entry["effect"]], data) if entry["status"] != "untestable" else None
         entry["power"] = 0.8
         entry["level"] = level

@@ -122,6 +122,8 @@ class SweepData:
     source: str = ""
     notes: list[str] = field(default_factory=list)
     convention: str = "iso"  # sign convention of the file read (for commands the report suggests)
+    #: the sweeps are static-rig pushes converted to slip angles (Komana et al. Eq. 1): the advice asks for pushes
+    static_pushes: bool = False
     #: slip-ratio sweeps left out of the lateral diagnosis (drive/brake and combined slip), or None:
     #: ``{"combined_sweeps", "longitudinal_sweeps", "points", "slip_angles"}`` (slip angles [rad])
     slip_ratio_sweeps: dict | None = None
@@ -352,4 +354,6 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 1
         rated_load=inputs.rated_load, n_sweeps=int(sweep.max()) + 1)
     return SweepData(inputs=inputs, fy=d["fy"].to_numpy(float), sweep=sweep, levels=levels, level_index=lidx,
                      cell=cell, summary=summary, n_raw=n_raw, source=source, notes=notes,
-                     convention=str(getattr(data, "convention", "iso") or "iso"))
+                     convention=str(getattr(data, "convention", "iso") or "iso"),
+                     static_pushes=bool(meta.get("converted_from") is not None
+                                        and "Eq. 1" in str(meta.get("equation", ""))))
