@@ -31,7 +31,7 @@ import numpy as np
 from ..effects import EFFECTS, FAMILIES
 from .stats import detectable_size
 
-__all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "needs_model", "peak_reach", "static_words"]
+__all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "needs_model", "peak_reach", "pushes"]
 
 _DEG = np.pi / 180.0
 #: the words for an effect PAC89 cannot carry and MF 6.1 can (issue 13: the model ladder)
@@ -111,13 +111,16 @@ def _test(family: str, d, cands, status: str, peaks=None) -> str:
     fz = np.asarray(s.fz_levels, dtype=float)
     reach = s.slip_extent / _DEG
     lo, hi = fz.min(), fz.max()
+    static = getattr(d, "static_pushes", False)  # static-rig pushes: one way each, slip converted with Eq. 1
     short, _ = _short_of_peak(peaks)
     if family in ("load_friction", "curvature_load") and len(fz) >= 2 and short:
         if all(p["peak_deg"] is not None for p in short):
-            far = f"to |slip| >= {min(1.3 * max(p['peak_deg'] for p in short), PEAK_SEARCH_DEG):.0f} deg"
+            far = (f"to {'a converted slip' if static else '|slip|'} >= "
+                   f"{min(1.3 * max(p['peak_deg'] for p in short), PEAK_SEARCH_DEG):.0f} deg")
         else:
             far = f"the fitted curve still rises at {PEAK_SEARCH_DEG:.0f} deg: as far as the rig and the tyre allow"
-        return (f"sweeps past the force peak ({far}) at {', '.join(_kn(p['fz_N']) for p in short)}: where the peak "
+        what = "pushes carried past the static peak force" if static else "sweeps past the force peak"
+        return (f"{what} ({far}) at {', '.join(_kn(p['fz_N']) for p in short)}: where the peak "
                 "is measured, the peak force (friction) and the approach to it (curvature) are measured apart")
     if family == "load_friction":
         if len(fz) < 3:
@@ -157,9 +160,11 @@ def _test(family: str, d, cands, status: str, peaks=None) -> str:
         return "repeat the sweeps at the outer camber angles"
     if family == "offsets":
         if s.slip_reach < 1.0 * _DEG:
-            return (f"sweeps through zero in both slip directions (e.g. -{max(reach, 6):.0f} to +{max(reach, 6):.0f} "
-                    "deg): with one slip sign a shift of the curve cannot be told from its shape near zero; "
-                    "ply steer from conicity needs both mounting sides")
+            both = ("pushes to both sides of the centred tyre (converted slip, e.g." if static
+                    else "sweeps through zero in both slip directions (e.g.")
+            return (f"{both} -{max(reach, 6):.0f} to +{max(reach, 6):.0f} deg): with one "
+                    f"{'push direction' if static else 'slip sign'} a shift of the curve cannot be told from its "
+                    "shape near zero; ply steer from conicity needs both mounting sides")
         if len(fz) < 2:
             return "the sweep through zero at a second load (load-dependent shifts); both mounting sides for ply steer"
         return "repeat the sweeps through zero (both directions) and test the tyre mounted the other way round"
@@ -169,37 +174,15 @@ def _test(family: str, d, cands, status: str, peaks=None) -> str:
         return ("the same sweeps at a second inflation pressure"
                 + (f" (e.g. {0.8 * p0 / 1e3:.0f} and {1.2 * p0 / 1e3:.0f} kPa)" if p0 else " (e.g. -20 % and +20 %)"))
     if family == "speed":
+        if static:
+            return "a dynamic-rig test at two speeds (e.g. 40 and 100 km/h): a static push does not roll"
         return "the same sweeps at a second speed (e.g. 40 and 100 km/h)"
     return "more sweeps"
 
 
-#: the advice's words for static-rig pushes converted with Eq. 1, in order (the longer phrases first): a static
-#: rig pushes the standing tyre sideways from the centred position, one way per push, and has no rolling speed
-_STATIC_WORDS = (
-    ("slip sweeps through zero in both directions", "pushes to both sides of the centred tyre"),
-    ("sweeps through zero in both slip directions", "pushes to both sides of the centred tyre"),
-    ("centred tyre (e.g.", "centred tyre (converted slip, e.g."),
-    ("|slip angle|", "|converted slip angle|"),
-    ("repeat the sweeps through zero (both directions)", "repeat the pushes to both sides"),
-    ("the sweep through zero", "the pushes to both sides"),
-    ("slip sweeps through the peak", "pushes through the static peak force"),
-    ("extend the sweeps past the peak", "carry the pushes past the static peak force"),
-    ("sweeps past the force peak", "pushes carried past the static peak force"),
-    ("sweeps past the peak", "pushes carried past the static peak force"),
-    ("sweeps through the peak", "pushes through the static peak force"),
-    ("extend the slip range", "carry the pushes further"),
-    ("|slip| >=", "a converted slip >="),
-    ("slip sign", "push direction"),
-    ("sweeps", "pushes"),
-    ("sweep", "push"),
-)
-
-
-def static_words(text: str) -> str:
-    """``text`` in a static-rig engineer's words (pushes, not sweeps; see ``_STATIC_WORDS``)."""
-    for old, new in _STATIC_WORDS:
-        text = text.replace(old, new)
-    return text
+def pushes(text: str) -> str:
+    """``text`` with sweeps called pushes (static-rig data converted with Eq. 1: one push per load)."""
+    return text.replace("sweeps", "pushes").replace("sweep", "push")
 
 
 def _detectable(c, data) -> list[dict] | None:
@@ -274,6 +257,9 @@ def build_advice(data, cands: dict, accepted: list[str], settings, level: float 
             if len(data.summary.fz_levels) == 1 and fam in ("load_friction", "curvature_load", "offsets"):
                 why += ("; with one load a law in load is a constant, which the base coefficients (a2, a7, the "
                         "shifts' constant parts) already are: the family cannot be told apart from them")
+            if fam == "offsets" and getattr(data, "static_pushes", False):
+                why = (f"static pushes go one way from the centred tyre (converted slip "
+                       f"{round(data.summary.slip_min / _DEG, 1) + 0.0:.1f} to {data.summary.slip_max / _DEG:.1f} deg): a shift needs both sides")
             entry = {"effect": c.effect, "family": fam, "status": "untestable", "why": why}
         else:
             unconf = [c for c in cs if c.status in ("significant but not confirmed", "confirmed, not added")]
@@ -292,9 +278,7 @@ def build_advice(data, cands: dict, accepted: list[str], settings, level: float 
             continue
         entry["test"] = _test(fam, data, cands, entry["status"], peaks)
         if getattr(data, "static_pushes", False):
-            entry["why"], entry["test"] = static_words(entry["why"]), static_words(entry["test"])
-            if fam == "speed":
-                entry["test"] = "a dynamic-rig test at two speeds (e.g. 40 and 100 km/h): a static push does not roll"
+            entry["why"], entry["test"] = pushes(entry["why"]), pushes(entry["test"])
         entry["detectable"] = _detectable(cands[entry["effect"]], data) if entry["status"] != "untestable" else None
         entry["power"] = 0.8
         entry["level"] = level

@@ -606,6 +606,18 @@ def _minp_adjust(T: np.ndarray, Tb: np.ndarray, alpha: float) -> tuple[np.ndarra
     return p_obs, np.maximum(p_adj, p_obs), crit
 
 
+def _basis(A: np.ndarray, layout) -> tuple[np.ndarray, float, float]:
+    """Orthonormal basis Q of the columns of ``A`` and the degrees of freedom they take within and between sweeps.
+
+    The between-sweep part is Q's content in the sweep-mean space (what a model's directions spend of the
+    sweep offsets), the within-sweep part the rest of its rank.
+    """
+    U, sv, _ = np.linalg.svd(A / np.maximum(np.linalg.norm(A, axis=0), 1e-300), full_matrices=False)
+    Q = U[:, sv > 1e-8 * sv[0]]
+    dof_b = float(np.sum((cluster_sums(Q, layout.sweep, layout.G) / np.sqrt(layout.n)[:, None]) ** 2))
+    return Q, Q.shape[1] - dof_b, dof_b
+
+
 def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.ndarray, layout: SweepLayout,
                       rng: np.random.Generator, n_boot: int = 999, alpha: float = 0.05,
                       method: str = "auto", min_flip_sweeps: int | None = None,
@@ -734,13 +746,7 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     # the alternative: model plus every candidate direction (orthonormal basis); the noise is estimated
     # from its residuals so an effect that is there does not pass for correlated noise
     keep = [True] * K if in_alternative is None else list(in_alternative)
-    A = np.hstack([J_model] + [X for X, k in zip(Jt, keep) if k])
-    U, sv, _ = np.linalg.svd(A / np.maximum(np.linalg.norm(A, axis=0), 1e-300), full_matrices=False)
-    Q = U[:, sv > 1e-8 * sv[0]]
-    k_tot = Q.shape[1]
-    Un = cluster_sums(Q, layout.sweep, G) / np.sqrt(layout.n)[:, None]  # Q's content in the sweep-mean space
-    dof_b = float(np.sum(Un**2))
-    dof_w = k_tot - dof_b
+    Q, dof_w, dof_b = _basis(np.hstack([J_model] + [X for X, k in zip(Jt, keep) if k]), layout)
     # variance of every candidate's score under a noise model: J~' Sigma J~ with Sigma_g = sd_g^2 rho^|i-j|
     # + tau^2, from lagged cross-products of J~ within each sweep
     Jp = np.moveaxis(layout.padded(allJ.T), 0, -1)  # (G, H, sum q)
@@ -771,10 +777,8 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
         tau=np.maximum(0.0, 2.0 * np.asarray(noise_obs.tau) - np.mean(pilot.tau)))
     # the draws' sweep offsets: the larger of that tau and the start model's own (restricted under the null,
     # from all the sweep means), see Notes; the statistics stay studentised with the full model's tau
-    U0, sv0, _ = np.linalg.svd(J_model / np.maximum(np.linalg.norm(J_model, axis=0), 1e-300), full_matrices=False)
-    Q0 = U0[:, sv0 > 1e-8 * sv0[0]]
-    db0 = float(np.sum((cluster_sums(Q0, layout.sweep, G) / np.sqrt(layout.n)[:, None]) ** 2))
-    tau0 = estimate_noise(r - (r @ Q0) @ Q0.T, layout, Q0.shape[1] - db0, db0).tau
+    Q0, dw0, db0 = _basis(J_model, layout)
+    tau0 = estimate_noise(r - (r @ Q0) @ Q0.T, layout, dw0, db0).tau
     e = simulate_noise(NoiseModel(sd=noise.sd, rho=noise.rho, tau=np.maximum(np.asarray(noise.tau), tau0)),
                        layout, n_boot, rng)
     nb = estimate_noise(alt_resid(e), layout, dof_w, dof_b)

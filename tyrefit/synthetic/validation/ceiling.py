@@ -44,8 +44,15 @@ from scipy.optimize import least_squares
 from .cases import Case
 from .truth import EFFECT_SIZES, TruthTyre
 
-__all__ = ["FREE_BASE", "free_parameters", "refit_truth", "truth_form_heldout", "truth_form_scores", "model_scores",
-           "interior_sweeps"]
+__all__ = [
+    "FREE_BASE",
+    "free_parameters",
+    "interior_sweeps",
+    "model_scores",
+    "refit_truth",
+    "truth_form_heldout",
+    "truth_form_scores",
+]
 
 #: base-shape parameters of the truth refitted in every case: (scale, lower, upper)
 FREE_BASE: dict[str, tuple[float, float, float]] = {
@@ -75,6 +82,20 @@ _FREE_EFFECT: dict[str, tuple[float, float, float]] = {
 
 #: an effect's law parameters that its size does not name (the tanh law's load scale, the knee's width, ...)
 _COMPANIONS = {"m_tanh": ("f_m",), "c_over": ("w_over",), "c_gamma": ("g_s",)}
+
+
+_INPUTS = ("fz", "slip_angle", "camber", "pressure")
+
+
+def _columns(frame) -> list[np.ndarray]:
+    """The truth tyre's inputs (load, slip, camber, pressure) of a case's frame."""
+    return [frame[c].to_numpy(dtype=float) for c in _INPUTS]
+
+
+def _rms(err, sigma: float) -> float:
+    """RMS of ``err`` (an array or a list of arrays) over ``sigma``."""
+    e = np.concatenate(err) if isinstance(err, list) else np.asarray(err)
+    return float(np.sqrt(np.mean(e**2)) / sigma)
 
 
 def free_parameters(tyre: TruthTyre) -> dict[str, tuple[float, float, float]]:
@@ -128,7 +149,7 @@ def truth_form_heldout(case: Case) -> dict:
     estimation error alone).
     """
     d = case.data
-    cols = [d[c].to_numpy(dtype=float) for c in ("fz", "slip_angle", "camber", "pressure")]
+    cols = _columns(d)
     fy, run = d["fy"].to_numpy(dtype=float), d["run"].to_numpy()
     pred_err, est_err = [], []
     for g in interior_sweeps(case):
@@ -137,8 +158,7 @@ def truth_form_heldout(case: Case) -> dict:
         p = t.lateral_force(*(c[te] for c in cols))
         pred_err.append(p - fy[te])
         est_err.append(p - case.truth_fy[te])
-    rms = lambda parts: float(np.sqrt(np.mean(np.concatenate(parts) ** 2)) / case.sigma)  # noqa: E731
-    return {"ratio": rms(pred_err), "error": rms(est_err)}
+    return {"ratio": _rms(pred_err, case.sigma), "error": _rms(est_err, case.sigma)}
 
 
 def _inputs(case: Case, like=None):
@@ -177,17 +197,13 @@ def model_scores(steps, case: Case, rerun: Case) -> list[dict]:
     out = []
     for st in steps:
         pred, rpred = st.spec.predict(st.fit.theta, inp), st.spec.predict(st.fit.theta, rin)
-        out.append({"rerun": float(np.sqrt(np.mean((rpred - rfy) ** 2)) / case.sigma),
-                    "error": float(np.sqrt(np.mean((pred - truth) ** 2)) / case.sigma)})
+        out.append({"rerun": _rms(rpred - rfy, case.sigma), "error": _rms(pred - truth, case.sigma)})
     return out
 
 
 def truth_form_scores(case: Case, rerun: Case) -> dict:
     """:func:`model_scores` of the truth's own form refitted to every sweep of ``case`` (the floor of both)."""
-    d, r = case.data, rerun.data
-    cols = ("fz", "slip_angle", "camber", "pressure")
-    t = refit_truth(case.tyre, *(d[c].to_numpy(dtype=float) for c in cols), d["fy"].to_numpy(dtype=float))
-    pred, rpred = t.lateral_force(*(d[c].to_numpy(dtype=float) for c in cols)), \
-        t.lateral_force(*(r[c].to_numpy(dtype=float) for c in cols))
-    return {"rerun": float(np.sqrt(np.mean((rpred - r["fy"].to_numpy()) ** 2)) / case.sigma),
-            "error": float(np.sqrt(np.mean((pred - case.truth_fy) ** 2)) / case.sigma)}
+    t = refit_truth(case.tyre, *_columns(case.data), case.data["fy"].to_numpy(dtype=float))
+    pred, rpred = t.lateral_force(*_columns(case.data)), t.lateral_force(*_columns(rerun.data))
+    return {"rerun": _rms(rpred - rerun.data["fy"].to_numpy(dtype=float), case.sigma),
+            "error": _rms(pred - case.truth_fy, case.sigma)}
