@@ -2,9 +2,10 @@
 
 Compares two tyre files (any family :func:`tyrefit.tyres.read_tyre` reads) load by load --
 cornering stiffness, peak friction coefficient, slip angle at the peak, mean
-|dmu|/mu_peak over 0-12 deg -- and, with ``--data``, each against measured
-slip-angle sweeps (:func:`tyrefit.compare.tyres.compare_tyres`).  JSON keys as in
-``shared/DESIGN.md``.
+|dmu|/mu_peak over 0-12 deg -- and every other channel both tyres carry (Fx, Mz, Mx; the
+skipped ones named with the reason) and, with ``--data``, each against measured slip-angle
+or slip-ratio sweeps (:func:`tyrefit.compare.tyres.compare_tyres`).  JSON keys as in
+``shared/DESIGN.md``, plus ``channels`` and ``channels_skipped``.
 """
 
 from __future__ import annotations
@@ -12,6 +13,8 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+
+import numpy as np
 
 from ..io.outputs import check_outputs, write_text
 
@@ -37,6 +40,41 @@ def _clean(o):
     if hasattr(o, "item"):
         return _clean(o.item())
     return o
+
+
+def _g(v, fmt=".4g") -> str:
+    return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, fmt)
+
+
+def _channel_line(ch: str, rows: list, names) -> str:
+    """One console line per compared channel: its key numbers a / b at the first and last load, worst score."""
+    first, last = rows[0], rows[-1]
+
+    def ab(row, key, fmt=".4g"):
+        return f"{_g(row[key][0], fmt)} / {_g(row[key][1], fmt)}"
+
+    if ch == "fx":
+        score = max((r["mean_abs_dmu_over_peak"] for r in rows), default=float("nan"))
+        txt = "; ".join(f"Fz {r['fz'] / 1e3:.3g} kN: slip stiffness {ab(r, 'slip_stiffness')} N, peak mu_x "
+                        f"{ab(r, 'peak_mu', '.3f')} at kappa {ab(r, 'slip_at_peak', '.3f')}" for r in (first, last))
+        txt += f"; worst mean |dmu_x|/mu_peak {100 * score:.2f} %"
+    elif ch == "mz":
+        score = max((r["mean_abs_diff_over_peak"] for r in rows), default=float("nan"))
+        txt = "; ".join(f"Fz {r['fz'] / 1e3:.3g} kN: peak Mz {ab(r, 'peak_mz')} N·m at "
+                        f"{ab(r, 'slip_at_peak_deg', '.1f')} deg, trail {ab(r, 'pneumatic_trail_at_zero', '.4f')} m" for r in (first, last))
+        txt += f"; worst mean |dMz|/Mz_peak {100 * score:.2f} %"
+    else:
+        score = max((r["mean_abs_diff_over_range"] for r in rows), default=float("nan"))
+        txt = "; ".join(f"Fz {r['fz'] / 1e3:.3g} kN: Mx {_g(r['mx_range'][0][0])}..{_g(r['mx_range'][0][1])} / "
+                        f"{_g(r['mx_range'][1][0])}..{_g(r['mx_range'][1][1])} N·m" for r in (first, last))
+        txt += f"; worst mean |dMx|/range {100 * score:.2f} %"
+    d = [r["data"] for r in rows if "data" in r]
+    if d:
+        n = np.array([x["points"] for x in d], float)
+        rm = np.array([x["rmse"] for x in d], float)
+        tot = np.sqrt((n[:, None] * rm ** 2).sum(0) / n.sum())
+        txt += f"; vs data RMSE {tot[0]:.4g} / {tot[1]:.4g} {d[0]['unit']}"
+    return txt
 
 
 def run(args) -> int:
@@ -88,6 +126,10 @@ def run(args) -> int:
             v = lc.data["mean_abs_dmu_over_peak_vs_data"]
             line += f"; vs data {100 * v[0]:.2f} % / {100 * v[1]:.2f} %"
         print(line)
+    for ch, rows in cmp.channels.items():
+        if ch == "fy":
+            continue
+        print(f"  {ch}: " + _channel_line(ch, rows, cmp.names))
     for n in cmp.notes:
         print(f"  note: {n}")
     if args.json:
