@@ -266,104 +266,36 @@ class FitResultMF:
         return "\n".join(lines)
 
     # ------------------------------------------------------------------ figures
-    def plot_curves(self, kind: str = "lateral", channel: str | None = None, ax=None, *, max_loads: int = 5):
-        """Model over data along the sweep's slip at each load (nominal pressure, camber nearest 0).
+    def plot_curves(self, kind: str = "lateral", channel: str | None = None, ax=None, **kw):
+        """Model (lines) over data (dots) along the sweep's slip, one panel per condition level, loads as colours.
 
-        ``kind``: 'longitudinal' (Fx vs kappa), 'lateral' (Fy or Mz vs alpha,
-        ``channel``), 'combined' (Fy vs kappa at each slip angle, or Fx).
+        ``kind``: 'longitudinal' (Fx vs kappa), 'lateral' (Fy, Mz or Mx vs alpha, ``channel``), 'combined'
+        (Fx, Fy or Mz vs kappa, a panel per slip angle too).  ``ax``: None (a new pyplot figure), a Figure,
+        an array of Axes or one Axes (the nominal condition); returns the Axes
+        (:func:`tyrefit.fitting.mf_figures.plot_curves`; residual maps:
+        :func:`~tyrefit.fitting.mf_figures.plot_residual_map`).
         """
-        from matplotlib.figure import Figure
+        from . import mf_figures
 
-        if ax is None:
-            ax = Figure(figsize=(6.4, 4.2)).subplots()
-        channel = channel or {"longitudinal": "fx", "lateral": "fy", "combined": "fy"}[kind]
-        df = self.data.df
-        d = df[(df["kind"] == kind) & np.isfinite(df[channel])]
-        if d.empty:
-            ax.text(0.5, 0.5, f"no {kind} sweeps with {channel}", ha="center", transform=ax.transAxes)
-            return ax
-        d = _nominal_slice(d, self.params)
-        slip = _SLIP[kind]
-        xs = 100.0 if slip == "slip_ratio" else 1 / _DEG
-        if kind == "combined":
-            # one load (the level nearest FNOMIN), one curve per slip angle
-            lv = load_levels(d.groupby("run")["fz"].transform("mean").to_numpy())
-            lvs = pd.Series(lv, index=d.index)
-            means = d.groupby(lvs)["fz"].mean()
-            d = d[lvs == (means - self.params.get("FNOMIN", means.median())).abs().idxmin()]
-            key = np.round(d["slip_angle"].groupby(d["run"]).transform("median") / _DEG).astype(int)
-            groups = sorted(set(key))
-            lab = "α = {} deg, Fz ≈ " + f"{d['fz'].mean():.0f} N"
-        else:
-            lv = load_levels(d.groupby("run")["fz"].transform("mean").to_numpy())
-            key = pd.Series(lv, index=d.index)
-            groups = sorted(set(key))[:max_loads]
-            lab = "Fz ≈ {:.0f} N"
-        cmap = __import__("matplotlib").colormaps["viridis"]
-        for i, gk in enumerate(groups):
-            g = d[key == gk]
-            col = cmap(i / max(1, len(groups) - 1))
-            ax.plot(g[slip] * xs, g[channel], ".", ms=2, color=col, alpha=0.4)
-            label = lab.format(gk) if kind == "combined" else lab.format(g["fz"].mean())
-            for j, (_, h) in enumerate(g.groupby("run")):  # one line per sweep, along its slip
-                o = np.argsort(h[slip].to_numpy(), kind="stable")
-                ax.plot(h[slip].to_numpy()[o] * xs, h[f"model_{channel}"].to_numpy()[o], "-", lw=1.2, color=col,
-                        label=label if j == 0 else None)
-        ax.set_xlabel("slip ratio [%]" if slip == "slip_ratio" else "slip angle [deg]")
-        ax.set_ylabel(f"{channel.upper()} [{_UNIT[channel]}]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-        return ax
+        return mf_figures.plot_curves(self, kind, channel, ax, **kw)
 
     def plot_cells(self, ax=None):
-        """RMSE per condition cell in % of the cell's peak, per channel."""
-        from matplotlib.figure import Figure
+        """RMSE per condition cell in % of the channel's peak at that load: a heat map of condition x load,
+        grouped by channel (:func:`tyrefit.fitting.mf_figures.plot_cells`); returns the Axes."""
+        from . import mf_figures
 
-        if ax is None:
-            ax = Figure(figsize=(7.5, 3.8)).subplots()
-        c = self.cells
-        if c.empty:
-            return ax
-        for ch, g in c.groupby("channel"):
-            ax.plot(np.arange(len(g)), g["rmse_pct_load_peak"], "o-", ms=3, label=ch.upper())
-        ax.set_xlabel("condition cell (kind, load, pressure, camber, slip angle)")
-        ax.set_ylabel("RMSE [% of the channel's peak at that load]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-        return ax
+        return mf_figures.plot_cells(self, ax)
 
-    def plot_friction_ellipse(self, ax=None):
-        """Fy against Fx of the combined sweeps (data and model), with the Kamm circle of the fitted mu."""
-        from matplotlib.figure import Figure
+    def plot_friction_ellipse(self, ax=None, **kw):
+        """Fx against Fy of the drive/brake sweeps per condition level: the model only over the measured slip
+        ranges, the data's largest |F|/Fz instead of a Kamm circle
+        (:func:`tyrefit.fitting.mf_figures.plot_friction_ellipse`); returns the Axes."""
+        from . import mf_figures
 
-        if ax is None:
-            ax = Figure(figsize=(5.2, 5.2)).subplots()
-        df = self.data.df
-        d = df[(df["kind"] != "lateral") & np.isfinite(df["fx"]) & np.isfinite(df["fy"])]
-        d = _nominal_slice(d, self.params) if len(d) else d
-        if d.empty:
-            ax.text(0.5, 0.5, "no sweeps with both Fx and Fy", ha="center", transform=ax.transAxes)
-            return ax
-        fz = float(d["fz"].median())
-        near = d[np.abs(d["fz"] - fz) < 0.15 * fz]
-        ax.plot(near["fx"], near["fy"], ".", ms=2, alpha=0.35, color="0.4", label="data")
-        ax.plot(near["model_fx"], near["model_fy"], ".", ms=2, color="C3", label="model")
-        mu = self.params.get("PDX1", 1.0), self.params.get("PDY1", 1.0)
-        t = np.linspace(0, 2 * np.pi, 200)
-        ax.plot(mu[0] * fz * np.cos(t), mu[1] * fz * np.sin(t), "k--", lw=0.8,
-                label=f"friction ellipse μx={mu[0]:.2f}, μy={mu[1]:.2f}")
-        ax.plot(max(mu) * fz * np.cos(t), max(mu) * fz * np.sin(t), ":", color="0.5", lw=0.8, label="Kamm circle")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel("Fx [N]")
-        ax.set_ylabel("Fy [N]")
-        ax.set_title(f"Fz ≈ {fz:.0f} N", fontsize=9)
-        ax.legend(fontsize=7)
-        return ax
+        return mf_figures.plot_friction_ellipse(self, ax, **kw)
 
     # ------------------------------------------------------------------ report
     def report_blocks(self, r) -> None:
-        from matplotlib.figure import Figure
-
         r.h2("Fit quality per channel")
         r.table([{"channel": c.upper(), "RMSE": s["rmse"], "unit": s["unit"], "R²": s["r2"],
                   "noise floor": s["noise_floor"], "RMSE/noise": s["rmse"] / s["noise_floor"]
@@ -373,29 +305,9 @@ class FitResultMF:
         r.table([{"stage": n, "channel": f.channel.upper(), "points": f.n_points, "sweeps": f.n_sweeps,
                   "varied": ", ".join(f.varied), "evaluations": f.nfev, "seconds": f.seconds}
                  for n, f in self.stages.items()])
-        panels = [("longitudinal", "fx", "Fx vs slip ratio (pure)"), ("lateral", "fy", "Fy vs slip angle (pure)"),
-                  ("lateral", "mz", "Mz vs slip angle (pure)"), ("combined", "fy", "Fy vs slip ratio at each α"),
-                  ("combined", "fx", "Fx vs slip ratio at each α")]
-        panels = [pp for pp in panels if pp[1] in self.stats]
-        if panels:
-            fig = Figure(figsize=(12, 3.8 * math.ceil(len(panels) / 2)))
-            axes = np.atleast_1d(fig.subplots(math.ceil(len(panels) / 2), 2)).ravel()
-            for ax, (kind, ch, title) in zip(axes, panels):
-                self.plot_curves(kind, ch, ax=ax)
-                ax.set_title(title, fontsize=9)
-            for ax in axes[len(panels):]:
-                ax.set_visible(False)
-            fig.tight_layout()
-            r.figure(fig, "Model (lines) over data (dots) at the nominal pressure and the camber nearest 0")
-        fig = Figure(figsize=(12, 4.2))
-        a1, a2 = fig.subplots(1, 2)
-        self.plot_cells(a1)
-        self.plot_friction_ellipse(a2)
-        fig.tight_layout()
-        r.figure(fig, "Error per condition cell; friction ellipse / Kamm circle")
-        if not self.cells.empty:
-            r.h3("Error per condition cell")
-            r.table(self.cells)
+        from . import mf_figures
+
+        mf_figures.report_figures(self, r)  # every condition; the cell table after the figures, collapsed
         r.h2("Coefficients")
         rows = []
         for n, f in self.stages.items():
@@ -420,38 +332,16 @@ class FitResultMF:
 
 
 def _nominal_slice(d: pd.DataFrame, p) -> pd.DataFrame:
-    """Sweeps at the pressure nearest NOMPRES and the camber nearest 0."""
-    cond = d.groupby("run")[["pressure", "camber"]].transform("mean")
-    if np.isfinite(cond["pressure"]).any():
-        dp = np.abs(cond["pressure"] - p.get("NOMPRES", 0.0))
-        d, cond = d[dp <= dp.min() + 5e3], cond[dp <= dp.min() + 5e3]
-    dc = np.abs(cond["camber"])
-    return d[dc <= dc.min() + 0.25 * _DEG]
+    """Sweeps at the pressure level nearest NOMPRES and the camber level nearest 0 (``mf_figures.nominal_slice``)."""
+    from .mf_figures import nominal_slice
+
+    return nominal_slice(d, p)
 
 
 def _cells(df: pd.DataFrame) -> pd.DataFrame:
-    sw = df.groupby("run").agg(fz=("fz", "mean"), pressure=("pressure", "mean"), camber=("camber", "mean"),
-                               alpha=("slip_angle", "median"), kind=("kind", "first"))
-    sw["load_level"] = load_levels(sw["fz"].to_numpy())
-    lv = sw.groupby("load_level")["fz"].transform("mean")
-    sw["fz_cell"] = np.round(lv, -1)
-    sw["p_cell"] = np.round(sw["pressure"] / 1e3).fillna(-1)
-    sw["gamma_cell"] = np.round(sw["camber"] / _DEG, 1)
-    sw["alpha_cell"] = np.where(sw["kind"] == "combined", np.round(sw["alpha"] / _DEG), 0.0)
-    key = ["kind", "fz_cell", "p_cell", "gamma_cell", "alpha_cell"]
-    d = df.join(sw[key[1:]], on="run")
-    rows = []
-    for c in ("fx", "fy", "mz", "mx", "my"):
-        if f"model_{c}" not in d:
-            continue
-        e = d[np.isfinite(d[c]) & np.isfinite(d[f"model_{c}"])]
-        load_peak = e.groupby("fz_cell")[c].agg(lambda v: float(np.max(np.abs(v))) or 1.0)
-        for k, g in e.groupby(key, sort=True):
-            res = g[f"model_{c}"] - g[c]
-            pk = float(np.max(np.abs(g[c]))) or 1.0
-            rows.append({"channel": c, "kind": k[0], "fz [N]": k[1], "pressure [kPa]": k[2] if k[2] >= 0 else None,
-                         "camber [deg]": k[3], "slip angle [deg]": k[4], "n": len(g),
-                         "rmse": float(np.sqrt(np.mean(res**2))), "bias": float(res.mean()),
-                         "rmse_pct_peak": 100.0 * float(np.sqrt(np.mean(res**2))) / pk,
-                         "rmse_pct_load_peak": 100.0 * float(np.sqrt(np.mean(res**2))) / load_peak[k[1]]})
-    return pd.DataFrame(rows)
+    """RMSE per condition cell (kind, load, pressure, camber, speed, slip-angle level) and channel
+    (:func:`tyrefit.fitting.mf_figures.condition_cells`: levels clustered, so a pressure that creeps with tread
+    temperature stays one cell)."""
+    from .mf_figures import condition_cells
+
+    return condition_cells(df)
