@@ -207,18 +207,21 @@ def judge(scale: str, seed: int, out: Path, holdout: bool = True, report: bool =
     summary["fit"] = {k: fit[k] for k in ("rc", "wall_s", "cpu_s", "tir")}
     summary["fit"]["console_first_line"] = fit["stdout"].splitlines()[0] if fit["stdout"] else ""
     print(f"fit: rc {fit['rc']}, wall {fit['wall_s']:.1f} s, CPU {fit['cpu_s']:.1f} s")
-    if fit["rc"] != 0:
-        summary["fit"]["error"] = (fit["stderr"] or fit["stdout"])[-1000:]
+    fitted = fit["rc"] == 0
+    if not fitted:  # nothing to judge; the middle-pressure refit still runs
+        summary["fit"]["error"] = (fit["stderr"] or fit["stdout"]).strip()[-1000:]
         print(summary["fit"]["error"])
-        _write(out, summary)
-        return summary
 
     # --- data as fit reads them
     cds = read_data(cpath, convention="sae").df
     dds = read_data(dpath, convention="sae").df
     summary["samples"]["kept_by_segmentation"] = {"cornering": len(cds), "drivebrake": len(dds)}
-    ev = evaluate(out, fit["tir"], [cds, dds], "mf61")
-    summary["eval"] = {k: ev[k] for k in ("accepted", "allow_unphysical_used", "message")}
+    if fitted:
+        ev = evaluate(out, fit["tir"], [cds, dds], "mf61")
+        summary["eval"] = {k: ev[k] for k in ("accepted", "allow_unphysical_used", "message")}
+    else:
+        ev = {"accepted": False}
+        summary["eval"] = {"accepted": False, "allow_unphysical_used": False, "message": "fit wrote no file"}
     rmse: dict[str, dict] = {}
     rate = tf.SCALES[scale]["rate"]
     tc, td = _truth_columns(cds, corner_df, rate), _truth_columns(dds, db_df, rate)
@@ -238,7 +241,7 @@ def judge(scale: str, seed: int, out: Path, holdout: bool = True, report: bool =
             if tru is not None:
                 row["truth_rmse"] = _rmse(y, tru[f"true_{k}"].to_numpy(float)[sel])
             rmse[name] = row
-    else:
+    elif fitted:
         summary["eval"]["error"] = ev.get("error")
 
     # --- the middle pressure fitted without it
@@ -270,8 +273,13 @@ def judge(scale: str, seed: int, out: Path, holdout: bool = True, report: bool =
                     row["truth_rmse"] = _rmse(y, tc["true_fy"].to_numpy(float)[sel])
                 rmse["middle pressure Fy (fitted without it)"] = row
         else:
-            summary["holdout_fit"]["error"] = (hfit["stderr"] or hfit["stdout"])[-1000:]
+            summary["holdout_fit"]["error"] = (hfit["stderr"] or hfit["stdout"]).strip()[-1000:]
+            print(summary["holdout_fit"]["error"])
     summary["rmse"] = rmse
+    if not fitted:
+        _print(summary)
+        _write(out, summary)
+        return summary
 
     # --- checks on the written file
     tyre = read_tyre(fit["tir"])
@@ -337,11 +345,15 @@ def _print(s: dict) -> None:
           f"{s['samples']['kept_by_segmentation']['cornering']} + {s['samples']['kept_by_segmentation']['drivebrake']} "
           f"in sweeps")
     f = s["fit"]
-    line = f"fit: wall {f['wall_s']:.1f} s, CPU {f['cpu_s']:.1f} s"
+    line = f"fit: rc {f['rc']}, wall {f['wall_s']:.1f} s, CPU {f['cpu_s']:.1f} s"
     if "holdout_fit" in s:
         h = s["holdout_fit"]
-        line += f"; holdout refit: wall {h['wall_s']:.1f} s, CPU {h['cpu_s']:.1f} s"
+        line += f"; holdout refit: rc {h['rc']}, wall {h['wall_s']:.1f} s, CPU {h['cpu_s']:.1f} s"
     print(line)
+    if f["rc"] != 0:
+        print(f"NO FILE WRITTEN by the fit: {f.get('error', '')}")
+    if s.get("holdout_fit", {}).get("rc", 0) != 0:
+        print(f"NO FILE WRITTEN by the holdout refit: {s['holdout_fit'].get('error', '')}")
     loose = s["eval"].get("allow_unphysical_used")
     print()
     print(f"{'channel':40s} {'RMSE':>9s} {'target':>8s} {'':4s} {'truth':>8s} {'const':>8s} {'n':>7s}")
@@ -358,13 +370,17 @@ def _print(s: dict) -> None:
           "const: RMSE of the mean)")
     if loose:
         print("NOTE: eval refused the file; the RMSEs above come from eval --allow-unphysical")
+    if "holdout_eval" in s:
+        h = s["holdout_eval"]
+        print(f"eval accepted the holdout file: {'yes' if h['accepted'] else 'NO'}"
+              + (" (its RMSE above from eval --allow-unphysical)" if h["allow_unphysical_used"] else ""))
+    if "checks" not in s:
+        return
     c = s["checks"]
     print()
     print(f"eval accepted the written file (no --allow-unphysical): {'yes' if c['eval_accepted'] else 'NO'}")
     if not c["eval_accepted"]:
         print(f"  {s['eval']['message']}")
-    if "holdout_eval" in s:
-        print(f"eval accepted the holdout file: {'yes' if s['holdout_eval']['accepted'] else 'NO'}")
     print(f"largest implied mu in the file at the fitted loads: mu_x {c['mux_file_max']:.2f} (data max |Fx|/Fz "
           f"{c['data_fx_ratio_max']:.2f}, ratio {c['mux_file_max'] / c['data_fx_ratio_max']:.2f}), "
           f"mu_y {c['muy_file_max']:.2f} (data max |Fy|/Fz {c['data_fy_ratio_max']:.2f}, ratio "
