@@ -67,7 +67,7 @@ def fit_mf_files(args, datas):
     if getattr(args, "rated_load", None) is not None:
         info["fnomin"] = float(args.rated_load)
     measured = loaded_radius_law(sets)
-    if measured:
+    if "UNLOADED_RADIUS" in measured:
         info["unloaded_radius"] = measured["UNLOADED_RADIUS"]
     elif size is not None:
         info["unloaded_radius"] = size.unloaded_radius
@@ -85,6 +85,12 @@ def fit_mf_files(args, datas):
         result = fit_mf(data, **kw)
     notes = design_data(result, sets, size, measured)
     result.tyre_info["header"] = list(result.tyre_info.get("header", [])) + notes
+    if measured.get("note"):
+        result.notes.append(f"loaded radius: {measured['note']}")
+    if "UNLOADED_RADIUS" in getattr(result, "placeholders", []):
+        result.warnings.append(f"UNLOADED_RADIUS {result.params['UNLOADED_RADIUS']:g} m is a TEMPLATE value (no "
+                               "credible loaded-radius channel in the data and no tyre size given): the Mz and Mx "
+                               "coefficients were fitted with it; give the size for the tyre's own radius")
     return result, start
 
 

@@ -294,7 +294,7 @@ def _fit_mf(ds, tir: str, model: str, cost: str) -> dict[str, Any]:
 
     measured = loaded_radius_law([ds])  # R0 enters Mz, Mx, My: known before the fit
     result = fit_mf(ds, model=model, cost=cost,
-                    tyre_info={"unloaded_radius": measured["UNLOADED_RADIUS"]} if measured else None)
+                    tyre_info={"unloaded_radius": measured["UNLOADED_RADIUS"]} if "UNLOADED_RADIUS" in measured else None)
     lines, _ = complete_mf_design(result.params, measured=measured,
                                   pressure_from_data="pressure" in ds.df.columns and bool(ds.df["pressure"].notna().any()))
     result.tyre_info["header"] = list(result.tyre_info.get("header", [])) + lines  # origin of each design value

@@ -37,6 +37,7 @@ measurements:
 from __future__ import annotations
 
 import math
+import os
 import re
 from dataclasses import dataclass
 
@@ -239,34 +240,73 @@ def complete_design(tyre, size: TyreSize | None = None, rated_load: float | None
 MF_DESIGN_SECTIONS = ("DIMENSION", "OPERATING_CONDITIONS", "INERTIA", "VERTICAL", "STRUCTURAL", "CONTACT_PATCH")
 
 
-def loaded_radius_law(datasets) -> dict[str, float]:
+def _radius_line(f: np.ndarray, r: np.ndarray) -> dict | None:
+    """R_l = R0 - Fz / c_z by least squares, when the line is credible (else None)."""
+    if f.size < 50 or not np.percentile(f, 95) > 1.5 * np.percentile(f, 5):
+        return None
+    slope, r0 = np.polyfit(f, r, 1)
+    if not (slope < 0 and 0.1 < r0 < 2.0 and r0 > r.max()):
+        return None
+    return {"UNLOADED_RADIUS": float(r0), "VERTICAL_STIFFNESS": float(-1.0 / slope), "n": int(f.size),
+            "fz": (float(f.min()), float(f.max())), "rl": (float(r.min()), float(r.max()))}
+
+
+#: records whose laws differ by more than this in R0 (relative) or 25 % in c_z are said to disagree
+RADIUS_AGREE = 0.01
+
+
+def loaded_radius_law(datasets) -> dict:
     """UNLOADED_RADIUS [m] and VERTICAL_STIFFNESS [N/m] from a loaded-radius channel (empty dict if none).
 
     Least squares R_l = R0 - Fz / c_z over the samples with Fz > 0 and a finite
     loaded radius (MF 6.1's vertical model with Q_FZ2 = 0: Fz = c_z (R0 - R_l),
-    Pacejka (2012) (A3.4)).  Used only when the line is credible: at least 50
-    samples, loads spanning a factor of 1.5, c_z > 0, and 0.1 m < R0 < 2 m with
-    R0 above every loaded radius seen.
+    Pacejka (2012) (A3.4)), per record.  A line is used only when credible: at
+    least 50 samples, loads spanning a factor of 1.5, c_z > 0, and 0.1 m < R0 <
+    2 m with R0 above every loaded radius seen.  Records whose lines agree
+    (R0 within :data:`RADIUS_AGREE`, c_z within 25 %) are pooled; records that
+    disagree (a rig's radius channel is often offset between test set-ups: TTC
+    cornering 0.186-0.206 m against drive/brake 0.210-0.229 m of the same tyre)
+    are not averaged: the free-rolling record's law is used (the cornering
+    record, slip angle at zero slip ratio: its radius is the tyre's free-rolling
+    loaded radius), and ``note`` says so.  ``note`` also names records whose
+    radius line is not credible.
     """
-    fz, rl = [], []
+    per = []
     for ds in datasets:
         df = ds.df
         if "loaded_radius" not in df.columns or "fz" not in df.columns:
             continue
         f, r = df["fz"].to_numpy(float), df["loaded_radius"].to_numpy(float)
         ok = np.isfinite(f) & np.isfinite(r) & (f > 0) & (r > 0)
-        fz.append(f[ok])
-        rl.append(r[ok])
-    if not fz:
+        name = os.path.basename(str(getattr(ds, "source", "") or "record"))
+        per.append((name, getattr(ds, "kind", ""), f[ok], r[ok], _radius_line(f[ok], r[ok])))
+    if not per:
         return {}
-    fz, rl = np.concatenate(fz), np.concatenate(rl)
-    if fz.size < 50 or not np.percentile(fz, 95) > 1.5 * np.percentile(fz, 5):
-        return {}
-    slope, r0 = np.polyfit(fz, rl, 1)
-    if not (slope < 0 and 0.1 < r0 < 2.0 and r0 > rl.max()):
-        return {}
-    return {"UNLOADED_RADIUS": float(r0), "VERTICAL_STIFFNESS": float(-1.0 / slope), "n": int(fz.size),
-            "fz": (float(fz.min()), float(fz.max()))}
+    good = [x for x in per if x[4] is not None]
+    notes = [f"{n}: its loaded-radius channel gives no credible R_l = R0 - Fz/c_z line (not used)"
+             for n, _, _, _, law in per if law is None]
+    if not good:
+        return {"note": "; ".join(notes)} if notes else {}
+    laws = [x[4] for x in good]
+    r0s = np.array([w["UNLOADED_RADIUS"] for w in laws])
+    czs = np.array([w["VERTICAL_STIFFNESS"] for w in laws])
+    agree = np.ptp(r0s) <= RADIUS_AGREE * r0s.mean() and np.ptp(czs) <= 0.25 * czs.mean()
+    if agree:
+        out = _radius_line(np.concatenate([x[2] for x in good]), np.concatenate([x[3] for x in good]))
+        out = out or laws[0]
+        out["source"] = ", ".join(x[0] for x in good)
+    else:
+        free = [x for x in good if x[1] == "slip_angle"] or good
+        pick = free[0]
+        out = dict(pick[4], source=pick[0])
+        said = "; ".join(f"{n}: R0 {w['UNLOADED_RADIUS'] * 1e3:.1f} mm, c_z {w['VERTICAL_STIFFNESS'] / 1e3:.0f} N/mm "
+                         f"(loaded radius {w['rl'][0] * 1e3:.1f}-{w['rl'][1] * 1e3:.1f} mm)"
+                         for n, _, _, _, w in good)
+        notes.insert(0, f"the records' loaded radii disagree ({said}); used {pick[0]}"
+                        + (" (free-rolling: slip-angle sweeps at zero slip ratio)" if pick[1] == "slip_angle" else ""))
+    if notes:
+        out["note"] = "; ".join(notes)
+    return out
 
 
 def complete_mf_design(p: dict, *, size: TyreSize | None = None, measured: dict | None = None,
@@ -295,13 +335,16 @@ def complete_mf_design(p: dict, *, size: TyreSize | None = None, measured: dict 
     template = mf61.neutral()
     origin: dict[str, str] = {}
     lines: list[str] = []
-    if measured:
+    if "UNLOADED_RADIUS" in measured:
         p["UNLOADED_RADIUS"] = measured["UNLOADED_RADIUS"]
         p["VERTICAL_STIFFNESS"] = measured["VERTICAL_STIFFNESS"]
         origin["UNLOADED_RADIUS"] = origin["VERTICAL_STIFFNESS"] = "data"
         lines.append(f"UNLOADED_RADIUS {p['UNLOADED_RADIUS']:.4f} m and VERTICAL_STIFFNESS "
                      f"{p['VERTICAL_STIFFNESS'] / 1e3:.4g} N/mm FROM THE DATA: loaded radius = R0 - Fz/cz fitted to "
-                     f"{measured['n']} samples, Fz {measured['fz'][0]:.0f}-{measured['fz'][1]:.0f} N")
+                     f"{measured['n']} samples, Fz {measured['fz'][0]:.0f}-{measured['fz'][1]:.0f} N"
+                     + (f" ({measured['source']})" if measured.get("source") else ""))
+    if measured.get("note"):
+        lines.append(f"loaded radius: {measured['note']}")
     if pressure_from_data:
         origin["NOMPRES"] = origin["INFLPRES"] = "data"
     if size is not None:
@@ -323,7 +366,7 @@ def complete_mf_design(p: dict, *, size: TyreSize | None = None, measured: dict 
         try:
             est = design_estimates(unloaded_radius=p["UNLOADED_RADIUS"], width=size.width,
                                    rim_radius=size.rim_radius, rated_load=p["FNOMIN"],
-                                   vertical_stiffness=p["VERTICAL_STIFFNESS"] if measured else None,
+                                   vertical_stiffness=p["VERTICAL_STIFFNESS"] if "UNLOADED_RADIUS" in measured else None,
                                    aspect_ratio=size.aspect_ratio)
         except DataError as exc:  # pragma: no cover - rated_load is FNOMIN > 0
             est = {}
