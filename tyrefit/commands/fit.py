@@ -235,6 +235,7 @@ def run(args) -> int:
         raise DataError(f"{len(datas)} DATA files: fitting one tyre to several files needs a Magic Formula model "
                         "(--model mf61 or mf52); PAC89 is fitted to one file")
     args.data = datas[0]
+    _check_json_flags(args)
     if getattr(args, "by", None):
         return _run_by(args, out)
     result, extras = fit_file(args)
@@ -263,6 +264,24 @@ def run(args) -> int:
     if getattr(args, "report", None):
         print(f"wrote {Path(args.report) / 'index.html'}")
     return 0
+
+
+def _check_json_flags(args) -> None:
+    """Refuse, before any work, a ``--json`` whose Chrono keys no other flag can give.
+
+    Chrono's Pac89Tire JSON needs radius, width, mass and inertia (only ``--size`` gives width, mass and
+    inertia) and the vertical and lateral stiffness and damping (``--rated-load`` estimates them,
+    ``--vertical`` measures the vertical one): :func:`tyrefit.io.chrono_doc.chrono_dict`.
+    """
+    if not getattr(args, "json", None):
+        return
+    need = []
+    if not getattr(args, "size", None):
+        need.append("--size (width, mass and inertia)")
+    if getattr(args, "rated_load", None) is None and not getattr(args, "vertical", None):
+        need.append("--rated-load NEWTONS or --vertical VERTICAL.csv (vertical and lateral stiffness, damping)")
+    if need:
+        raise DataError(f"--json {args.json}: Chrono's PAC89 JSON needs {' and '.join(need)}; nothing was fitted")
 
 
 def _print_warnings(result) -> None:
