@@ -30,7 +30,7 @@ DESIGN = dict(pressures=[260e3], cambers_deg=[0.0], slip_angles_deg=[0.0, -3.0, 
 
 
 def _tyre(lmuv: float = LMUV) -> dict:
-    return dict(gen.published_mf61(), LMUV=lmuv)
+    return dict(gen.contract_mf61(), LMUV=lmuv)
 
 
 def _header(text: str) -> list[str]:
@@ -182,7 +182,9 @@ def test_no_speed_law_in_the_data_gives_lmuv_near_zero_without_warning():
     # two speeds, a tyre without friction decay: LMUV is fitted, ends at (or next to) 0, and that is no warning
     df = gen.make_sweeps(_tyre(0.0), seed=26, speeds=[0.5 * V0, 1.5 * V0], **dict(DESIGN, slip_angles_deg=[0.0]))
     r = fit_mf(df, tyre_info=INFO, stages=["Fx0", "Fy0"])
-    assert "LMUV" in r.fitted and 0.0 <= r.params["LMUV"] < 0.03
+    # fitted next to 0, or (its standard error above its size) held at its neutral 0 and named so
+    assert 0.0 <= r.params["LMUV"] < 0.03
+    assert "LMUV" in r.fitted or r.not_identifiable["LMUV"].startswith("not identified")
     assert not any("LMUV" in w for w in r.warnings), r.warnings
     # friction that rises with slip speed (LMUV < 0 in the generating set) is outside MF's law: LMUV ends at its
     # bound 0 and a note says what that means

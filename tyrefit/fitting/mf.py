@@ -162,6 +162,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DataError, FitError
+from ..tyres.contract import ALIGN_DEG, G_TOL, slip_grid
 from ..models import mf61
 from . import initial as ini
 from ._blas import single_threaded_blas
@@ -522,6 +523,17 @@ def condition_levels(sweeps: pd.DataFrame) -> dict[str, list[float]]:
 
 
 # --------------------------------------------------------------------- identifiability
+#: the combined-slip shifts S_Hxa = RHX1, S_Hyk = RHY1 + RHY2 dfz, held at 0: with a shift G = cos(C atan(B (x +
+#: S_H)))/cos(C atan(B S_H)) is 1/cos(C atan(B S_H)) > 1 at x = -S_H, inside any range that reaches zero slip
+#: (Pacejka 2012, 4.E51-4.E53, 4.E59-4.E61); without it G <= 1 everywhere
+COMBINED_SHIFTS = ("RHX1", "RHY1", "RHY2")
+#: the reason given for a shape held because no sweep of the stage reaches its peak
+NO_PEAK = "no sweep reaches its peak"
+#: the documented shape a stage holds when no sweep reaches its peak: Pacejka's typical C (2012, sec. 4.3.2:
+#: 1.65 longitudinal, 1.3 lateral) and E = 0 (the plain sine of the arctangent)
+SHAPE_DEFAULTS = {"PCX1": 1.65, "PCY1": 1.3, "PEX1": 0.0, "PEY1": 0.0}
+
+
 def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame, *,
                     any_peak: bool = True, version: str = "6.1",
                     peak_runs: Sequence | None = None) -> tuple[dict[str, str], dict]:
@@ -593,7 +605,11 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
     need(["PDX3", "PDY3", "PKY3", "QBZ5", "QDZ3", "RBX3", "RBY4", "QSY5"], n_ac >= 2, acam)
     need(["PEY5", "PKY5", "QDZ4", "QSY6"], n_ac >= 3 or (n_ac >= 2 and n_l >= 2), acam3)
     need(["PKY6", "PVY3", "PEY4", "QBZ4", "QDZ8", "QDZ10", "QHZ3", "QEZ5", "RVY3", "SSZ3", "QSX2", "QSX7",
-          "QSX12", "QSX14"], n_c >= 2, cam)
+          "QSX14"], n_c >= 2, cam)
+    # Mx's g|g| term beside its g terms (QSX2, QSX10): with one non-zero camber the two are one column, and the
+    # pair ran away together (QSX10, QSX12 3e5 x the measured Mx, cancelling; cambers 0 and 3 deg)
+    need(["QSX12"], n_ac >= 3, f"needs >= 3 levels of |camber| (g|g| is g itself at one non-zero camber; "
+         f"data: {n_ac})")
     need(["PKY7", "PVY4", "QDZ9", "QDZ11", "QHZ4", "SSZ4", "QSX10", "QSX11"], n_c >= 2 and n_l >= 2,
          f"needs >= 2 camber levels and >= 2 load levels (data: {n_c} camber, {n_l} loads)")
     # with cambers of one sign only, a signed term and an |gamma| term on the same factor are one column
@@ -651,10 +667,18 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
         need(["QSX4"], lat, "needs cornering sweeps")
         need(["QSX5", "QSX6"], lat and n_l >= 3, f"the load factor of the Mx sine term needs cornering sweeps "
              f"at >= 3 load levels (data: {n_l})")
+    for nm in COMBINED_SHIFTS:  # the contract: combined slip only takes force away
+        need([nm], False, "held at 0: a shift of the combined-slip weight makes G exceed 1 between zero slip and "
+             "twice the shift (G is normalised at the shift, 4.E52, 4.E60), so combined slip would add force there")
     if st.name in ("Fx0", "Fy0") and not any_peak:
+        # without a peak the shape is not measured: C and E trade against D along the rising branch (C at its
+        # lower bound with mu 4.6 where the data reach 2.4); both are held at documented defaults
         for nm in st.names:
             if nm.startswith(("PEX", "PEY")):
-                why.setdefault(nm, "no sweep reaches its peak: curvature E held")
+                why.setdefault(nm, f"{NO_PEAK}: curvature E held at {SHAPE_DEFAULTS.get(nm, 0.0):g}")
+            elif nm in SHAPE_DEFAULTS:
+                why.setdefault(nm, f"{NO_PEAK}: shape factor C held at the typical {SHAPE_DEFAULTS[nm]:g} "
+                               "(Pacejka 2012, sec. 4.3.2)")
     if not len(pts):
         for nm in st.names:
             why.setdefault(nm, f"no {'/'.join(st.sweeps)} sweeps with {st.channel}")
@@ -677,7 +701,7 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
 SVYK_LOBE = "SV_yk one lobe per kappa sign (|RVY5 atan(RVY6 kappa)| <= pi)"
 
 
-def _factors(p: Mapping[str, float], stage: str, fz, dpi, gamma, sgn, kappa=None):
+def _factors(p: Mapping[str, float], stage: str, fz, dpi, gamma, sgn, kappa=None, cap=None):
     """Constraint quantities (Pacejka 2012): (name, value, margin) of stage ``stage`` on a grid.
 
     Fx0: mu_x (4.E13) > 0, E_x (4.E14) <= 1, K_x/Fz (4.E15) > 0.
@@ -686,6 +710,8 @@ def _factors(p: Mapping[str, float], stage: str, fz, dpi, gamma, sgn, kappa=None
     Fy (combined), given ``kappa`` (the ends of the fitted slip-ratio range, :func:`_grid`): the kappa-induced
     side force SV_yk = DV_yk sin(RVY5 atan(RVY6 kappa)) (4.E66) is one lobe on each side of kappa = 0,
     |RVY5 atan(RVY6 kappa)| <= pi (see :data:`SVYK_LOBE`).
+    Fx0, Fy0 given ``cap`` (the peak-friction ceiling at each grid load, :func:`_mu_ceiling`): |mu| <= cap.
+    Mz0: the trail curvature E_t (4.E44) <= 1 with its atan term at the bound +-1 (QEZ4, QEZ5).
     Values are dimensionless; a constraint holds when ``value >= margin``.
     """
     g = p.get
@@ -699,6 +725,8 @@ def _factors(p: Mapping[str, float], stage: str, fz, dpi, gamma, sgn, kappa=None
         kx = (g("PKX1", 20) + g("PKX2", 0) * dfz) * np.exp(np.clip(g("PKX3", 0) * dfz, -50, 50)) \
             * (1 + g("PPX1", 0) * dpi + g("PPX2", 0) * dpi**2)
         out += [("mu_x > 0", mux, 0.02), ("E_x <= 1", 1.0 - ex, 0.0), ("K_x > 0", kx, 0.1)]
+        if cap is not None:
+            out.append((MU_CAP.format(axis="x"), cap - np.abs(mux), 0.0))
     elif stage == "Fy0":
         muy = (g("PDY1", 1) + g("PDY2", 0) * dfz) * (1 + g("PPY3", 0) * dpi + g("PPY4", 0) * dpi**2) \
             * (1 - g("PDY3", 0) * gamma**2)
@@ -709,6 +737,12 @@ def _factors(p: Mapping[str, float], stage: str, fz, dpi, gamma, sgn, kappa=None
             * np.sin(g("PKY4", 2) * np.arctan(fz / np.where(np.abs(den) > 1e-9, den, 1e-9)))
         s = -1.0 if g("PKY1", -20) < 0 else 1.0  # the data's orientation is fixed by PKY1's sign
         out += [("mu_y > 0", muy, 0.02), ("E_y <= 1", 1.0 - ey, 0.0), ("K_y > 0 (data's sign)", s * ky, 0.1)]
+        if cap is not None:
+            out.append((MU_CAP.format(axis="y"), cap - np.abs(muy), 0.0))
+    elif stage == "Mz0":
+        et = g("QEZ1", 0) + g("QEZ2", 0) * dfz + g("QEZ3", 0) * dfz**2
+        bound = np.abs(g("QEZ4", 0) + g("QEZ5", 0) * gamma)
+        out.append(("E_t <= 1", 1.0 - np.maximum(et * (1 + bound), et * (1 - bound)), 0.01))
     elif stage == "Fx":
         out += [("B_xa > 0", (g("RBX1", 0) + g("RBX3", 0) * gamma**2) + 0 * fz, 0.0),
                 ("E_xa <= 1", 1.0 - (g("REX1", 0) + g("REX2", 0) * dfz), 0.0)]
@@ -719,6 +753,51 @@ def _factors(p: Mapping[str, float], stage: str, fz, dpi, gamma, sgn, kappa=None
             phase = np.abs(g("RVY5", 0) * np.arctan(g("RVY6", 0) * kappa))
             out.append((SVYK_LOBE, (math.pi - phase) + 0 * fz, 0.0))
     return out
+
+
+#: the peak-friction ceiling (:func:`_mu_ceiling`)
+MU_CAP = "mu_{axis} <= 1.15 x the data's peak |F|/Fz"
+#: the ceiling's factor over the largest |F|/Fz a sweep through its peak shows
+MU_CAP_FACTOR = 1.15
+
+
+def _mu_ceiling(pts: pd.DataFrame, est: pd.DataFrame, force: str):
+    """The largest peak friction the data allow at each load: a function of Fz [N] (None without a peak).
+
+    Every sweep through its peak (``est.has_peak``, Eq. 2-4) shows its friction, the largest |F|/Fz of the
+    sweep; the ceiling at a load L is :data:`MU_CAP_FACTOR` x the largest of those at loads up to 1.1 L
+    (friction falls with load, Pacejka 2012 4.E13/4.E23: a heavier load never grips more than a lighter
+    one did), and unbounded below the lightest sweep through its peak.  A sweep that stops short of its
+    peak shows only a lower bound; a shape that never peaks inside the data (C at its bound, D growing
+    with the slip) would otherwise carry any friction at all (mu_x 4.6 where the data reach 2.4).
+    """
+    if est is None or est.empty or "has_peak" not in est or not est["has_peak"].any():
+        return None
+    d = pts[np.isfinite(pts[force].to_numpy(float))]
+    mu = (d[force].abs() / d["fz"].abs()).groupby(d["run"]).quantile(0.995)
+    e = est[est["has_peak"].astype(bool)]
+    fz_s = e["fz"].to_numpy(float)
+    mu_s = e["run"].map(mu).to_numpy(float)
+    ok = np.isfinite(fz_s) & np.isfinite(mu_s)
+    fz_s, mu_s = fz_s[ok], mu_s[ok]
+    if not fz_s.size:
+        return None
+
+    return MuCeiling(fz_s, mu_s)
+
+
+@dataclass(frozen=True)
+class MuCeiling:
+    """The peak-friction ceiling of :func:`_mu_ceiling`: ``ceiling(fz)`` [-] at loads ``fz`` [N]."""
+
+    fz: np.ndarray  # loads of the sweeps through their peak [N]
+    mu: np.ndarray  # their largest |F|/Fz
+
+    def __call__(self, fz):
+        fz = np.asarray(fz, float)
+        seen = self.fz[None, :] <= 1.1 * fz[..., None]
+        best = np.max(np.where(seen, self.mu[None, :], -np.inf), axis=-1)
+        return np.where(np.isfinite(best), MU_CAP_FACTOR * best, 1e6)
 
 
 def _grid(pts: pd.DataFrame, nominal: Mapping[str, float]):
@@ -741,6 +820,68 @@ def _grid(pts: pd.DataFrame, nominal: Mapping[str, float]):
     k = k[np.isfinite(k)]
     kmax = float(np.max(np.abs(k))) if k.size else 0.0
     return F.ravel(), P.ravel(), G.ravel(), S.ravel(), kmax * S.ravel()
+
+
+def _contract_grid(stage: Stage, pts: pd.DataFrame, nominal: Mapping[str, float], version: str,
+                   base: Mapping[str, float]):
+    """Inputs of the contract terms that need the model itself (:func:`_contract_terms`), made once per problem.
+
+    Mz0: 2, 3, 4 deg of slip angle of both signs at 5 loads x 3 pressures of the fitted range, camber nearest 0.
+    Fx, Fy (combined): 3 loads x 3 cambers x the fitted slip-angle range (9 points and the small angles
+    within 1 deg) x the slip-ratio range (9 points and those within 0.02), with the model's inputs prepared
+    once (:func:`tyrefit.models.mf61._prepare`; the stage varies none of what they depend on).
+    """
+    if stage.name not in ("Mz0", "Fx", "Fy") or not len(pts):
+        return None
+    fz = pts["fz"].to_numpy(float)
+    fzg = np.linspace(*np.percentile(fz, [1, 99]), 5 if stage.name == "Mz0" else 3)
+    mf = _mf61()
+    if stage.name == "Mz0":
+        pr = pts["pressure"].to_numpy(float)
+        pr = pr[np.isfinite(pr)]
+        prg = np.unique(np.linspace(pr.min(), pr.max(), 3)) if pr.size else np.array([np.nan])
+        a = pts["slip_angle"].to_numpy(float)
+        amax = float(np.max(np.abs(a))) if a.size else 0.0
+        ang = np.array([s * d * _DEG for d in ALIGN_DEG for s in (1.0, -1.0) if d * _DEG <= amax + 1e-9])
+        if not ang.size:
+            return None
+        cam = pts["camber"].to_numpy(float)
+        g0 = float(cam[np.argmin(np.abs(cam))]) if cam.size else 0.0
+        F, P, A = (x.ravel() for x in np.meshgrid(fzg, prg, ang, indexing="ij"))
+        # Fy at a small slip angle has the sign of K_y alpha, K_y of PKY1's sign (4.E25): aligning is Mz Fy < 0
+        sign_fy = np.sign(float(base.get("PKY1", -1.0))) * np.sign(A)
+        return {"fz": F, "pressure": None if np.all(np.isnan(P)) else P, "alpha": A, "camber": np.full_like(F, g0),
+                "scale": -sign_fy / (F * float(nominal.get("UNLOADED_RADIUS", 0.3))), "version": version}
+    lv = condition_levels(pts.groupby("run")[["fz", "camber", "pressure", "speed", "slip_angle"]].mean())
+    cam = np.unique(np.linspace(min(lv["camber"] or [0.0]), max(lv["camber"] or [0.0]), 3))
+    a, k = pts["slip_angle"].to_numpy(float), pts["slip_ratio"].to_numpy(float)
+    al = slip_grid(min(np.min(a), 0.0), max(np.max(a), 0.0), 9, 1.0 * _DEG)
+    ka = slip_grid(min(np.min(k), 0.0), max(np.max(k), 0.0), 9, 0.02)
+    F, G, A, K = (x.ravel() for x in np.meshgrid(fzg, cam, al, ka, indexing="ij"))
+    _, b = mf._prepare(dict(base), version, F, K, A, G, None, None)
+    return {"b": b, "ones": np.ones_like(F)}
+
+
+def _contract_terms(p: Mapping[str, float], stage: str, cg) -> list:
+    """The contract's terms that need the model (:mod:`tyrefit.tyres.contract`), as (name, value, margin).
+
+    Mz0: the aligning moment aligns the wheel at 2-4 deg (Mz Fy < 0: value -sign(Fy) Mz / (Fz R0)).
+    Fx, Fy: the combined-slip weights G_xa (4.E51), G_yk (4.E59) >= 0 (a shape factor RCX1, RCY1 > 1 can
+    carry the cosine past pi/2 at large slip).  G <= 1 is held by the shifts (:data:`COMBINED_SHIFTS`).
+    """
+    if cg is None:
+        return []
+    mf = _mf61()
+    if stage == "Mz0":
+        mz = mf.mz0(p, cg["fz"], cg["alpha"], camber=cg["camber"], pressure=cg["pressure"], version=cg["version"])
+        return [("Mz aligns at 2-4 deg (Mz Fy < 0)", cg["scale"] * mz, 1e-3)]
+    if stage in ("Fx", "Fy"):
+        c = mf.coefficients(p)
+        if stage == "Fx":
+            return [("G_xa >= 0", np.asarray(mf._gxa(c, cg["b"]), float), 0.0)]
+        gyk, _ = mf._gyk(c, cg["b"], cg["ones"])
+        return [("G_yk >= 0", np.asarray(gyk, float), 0.0)]
+    return []
 
 
 # --------------------------------------------------------------------------- the evaluator
@@ -860,7 +1001,14 @@ _BOUNDS = {"PCX1": (0.3, 3.0), "PCY1": (0.3, 3.0), "QCZ1": (0.3, 5.0), "RCX1": (
            # sweeps at alpha = 0 and >= 3 deg do not measure how fast it fades in between once the factor there is
            # within the noise, and unbounded it ran to -1.1e10 (a step at alpha = 0; 1 pressure and camber, seed 23).
            # 200 (half at 0.5 deg) is twice the published ones; at the bound it is a note (_bound_warnings)
-           "RVY4": (-200.0, 200.0)}
+           "RVY4": (-200.0, 200.0),
+           # Mx (6.1 manual form): the sine term QSX4 sin(QSX8 atan(QSX9 Fy/Fz0)) is linear in Fy for small QSX9,
+           # one column with QSX3 Fy/Fz0, and the pair ran away together (QSX3, QSX4 5000 x the measured Mx,
+           # cancelling; 3 loads x 2 cambers of MFeval's set): bounded at ~5 x the published magnitudes (MFeval's
+           # MF 6.1 example QSX3 1.62, QSX4 11.4, QSX8 4.5, |QSX9| 0.033; QSX2 -9.9)
+           "QSX2": (-50.0, 50.0), "QSX3": (-10.0, 10.0), "QSX4": (-50.0, 50.0), "QSX8": (-25.0, 25.0),
+           "QSX9": (-5.0, 5.0), "QSX5": (-10.0, 10.0), "QSX6": (-50.0, 50.0), "QSX10": (-20.0, 20.0),
+           "QSX11": (-50.0, 50.0), "QSX12": (-20.0, 20.0), "QSX13": (-20.0, 20.0), "QSX14": (-20.0, 20.0)}
 #: a coefficient at this bound is the data's own answer, said in the notes, not a warning (_bound_warnings)
 _QUIET_BOUNDS = {("LMUV", "lower"), ("RVY4", "lower"), ("RVY4", "upper")}
 
@@ -873,7 +1021,8 @@ def _typical_step(name: str) -> float:
 
 class _Problem:
     def __init__(self, stage: Stage, pts: pd.DataFrame, base: dict[str, float], vary: Sequence[str],
-                 nominal: Mapping[str, float], version: str, cost: str, scale: float, pkysign: float):
+                 nominal: Mapping[str, float], version: str, cost: str, scale: float, pkysign: float,
+                 mu_cap=None):
         self.stage = stage
         self.base = dict(base)
         self.vary = list(vary)
@@ -896,6 +1045,9 @@ class _Problem:
             else:
                 self.lb[self.vary.index("PKY1")] = 1e-3
         self.grid = _grid(pts, nominal)
+        if mu_cap is not None and stage.name in ("Fx0", "Fy0"):
+            self.grid = (*self.grid, mu_cap(self.grid[0]))
+        self.cgrid = _contract_grid(stage, pts, nominal, version, self.base)
         self.pen_w = 10.0 * math.sqrt(max(1, self.n_sweeps)) * (1.0 if cost == "l2" else 1.0)
         self.nfev = 0
 
@@ -905,7 +1057,8 @@ class _Problem:
         return p
 
     def penalties(self, p) -> np.ndarray:
-        out = [np.maximum(0.0, m - np.asarray(v, float)) for _, v, m in _factors(p, self.stage.name, *self.grid)]
+        terms = _factors(p, self.stage.name, *self.grid) + _contract_terms(p, self.stage.name, self.cgrid)
+        out = [np.maximum(0.0, m - np.asarray(v, float)) for _, v, m in terms]
         return self.pen_w * np.concatenate(out) if out else np.zeros(0)
 
     def mu_residual(self, theta) -> np.ndarray:
@@ -1288,12 +1441,17 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
             init = _initial_mz(pts, nominal)
     elif stage.name in ("Fx", "Fy"):
         init = {k: _TYPICAL[k] for k in ("RBX1", "RBX2", "RCX1", "RBY1", "RBY2", "RCY1") if k in stage.names}
+    cap = None
+    if stage.name in ("Fx0", "Fy0"):
+        cap = _mu_ceiling(pts, est, stage.channel)
     if stage.name == "Mz*":  # the joint polish varies what the Mz0 and Mz stages found identifiable
         why, facts = {}, {"points": int(len(pts)), "sweeps": int(len(sw))}
     else:
         peak_runs = est.loc[est["has_peak"].astype(bool), "run"].tolist() \
             if stage.name in ("Fx0", "Fy0") and len(est) and "has_peak" in est else None
         why, facts = identifiability(stage, pts, sw, any_peak=any_peak, version=version, peak_runs=peak_runs)
+    if cap is not None:
+        facts["mu_ceiling"] = cap
     names = [k for k in stage.names if k in _known_names()]
     want = [k for k in names if k not in why]
     if vary_only is not None:
@@ -1307,6 +1465,8 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     for k in names:
         if k in init and (k in want or k in stage.core):
             base[k] = init[k]
+        if why.get(k, "").startswith(NO_PEAK):
+            base[k] = SHAPE_DEFAULTS.get(k, 0.0)
     if not want:
         return StageFit(stage.name, stage.channel, [], why, init, facts, float("nan"), 0, 0.0, [], est, {}, [],
                         len(pts), len(sw))
@@ -1318,7 +1478,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     lin = [k for k in _LINEAR.get(stage.name, ()) if k in want]
     if lin and multistart:
         # variable projection: a grid over the nonlinear coefficients, the linear ones solved exactly
-        pg = _Problem(stage, _thin(pts, _GRID_POINTS), base, want, nominal, version, "l2", scale, pkysign)
+        pg = _Problem(stage, _thin(pts, _GRID_POINTS), base, want, nominal, version, "l2", scale, pkysign, mu_cap=cap)
         proj = _Projection(pg, lin, [k for k in want if k not in lin], base)
         starts = [dict(base, **proj.best(_GRID[stage.name]))]
         core = []
@@ -1332,10 +1492,10 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     for si, st in enumerate(starts):
         c = {k: (v if k in want else base.get(k, v)) for k, v in st.items()}
         if core and len(core) < len(want):
-            p1 = _Problem(stage, pts_s, c, core, nominal, version, "l2", scale, pkysign)
+            p1 = _Problem(stage, pts_s, c, core, nominal, version, "l2", scale, pkysign, mu_cap=cap)
             c.update(p1.params(p1.solve(p1.theta(c), tol=1e-5)))
             nfev += p1.nfev
-        p2 = _Problem(stage, pts_s, c, want, nominal, version, "l2", scale, pkysign)
+        p2 = _Problem(stage, pts_s, c, want, nominal, version, "l2", scale, pkysign, mu_cap=cap)
         th = p2.solve(p2.theta(c), tol=1e-6)
         obj = p2.objective(th)
         nfev += p2.nfev
@@ -1344,26 +1504,166 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
             best = (obj, p2, th)
     _, prob_s, th = best
     pts_p = _thin(pts, _POLISH_POINTS)
-    prob = _Problem(stage, pts_p, prob_s.params(th), want, nominal, version, "l2", scale, pkysign) \
+    prob = _Problem(stage, pts_p, prob_s.params(th), want, nominal, version, "l2", scale, pkysign, mu_cap=cap) \
         if len(pts_s) < len(pts_p) else prob_s
     n_before = prob.nfev
     th = prob.solve(th, tol=1e-10, max_nfev=_POLISH_NFEV // 4 if secondary else _POLISH_NFEV)
     nfev += prob.nfev - n_before
     if cost == "l1":  # Komana et al. Eq. 5: the core's pseudo-Huber continuation from the l2 solution
-        pl1 = _Problem(stage, pts_p, prob.params(th), want, nominal, version, "l1", scale, pkysign)
+        pl1 = _Problem(stage, pts_p, prob.params(th), want, nominal, version, "l1", scale, pkysign, mu_cap=cap)
         th1 = pl1.solve(pl1.theta(prob.params(th)))
         nfev += pl1.nfev
         prob, th = pl1, th1
+    stderr = _stderr(prob, th, len(pts_p))
+    # a coefficient the data do not determine (standard error >= its size) is held at its neutral value and the
+    # rest refitted, one at a time, the worst first, as long as the hold costs no more than the noise explains
+    # (a likelihood-ratio test at 5 %: the weighted SSE rises by < 3.84 s^2).  Two collinear terms (QSX3 against
+    # the near-linear QSX4 sine of Fy) both have standard errors above their size while together they carry the
+    # channel: holding the sine term of MFeval's Mx left 12 x the noise floor; that hold is refused and said
+    kept: set[str] = set()
+    for _ in range(_MAX_HOLDS):
+        weak = {k: v for k, v in _not_identified(prob, th, stderr).items() if k not in kept} \
+            if stage.name != "Mz*" else {}
+        if not weak:
+            break
+        k = max(weak, key=lambda n: weak[n][0] / max(abs(weak[n][1]), 1e-300))
+        se, v, n0 = weak[k]
+        q = prob.params(th)
+        q[k] = n0
+        rest = [n for n in want if n != k]
+        trial = _Problem(stage, pts_p, q, rest, nominal, version, prob.cost, scale, pkysign, mu_cap=cap)
+        th1 = trial.solve(trial.theta(q), tol=1e-8, max_nfev=_HOLD_NFEV) if rest else np.zeros(0)
+        nfev += trial.nfev
+        sse0, s2 = _weighted_sse(prob, th)
+        sse1, _ = _weighted_sse(trial, th1)
+        if not (sse1 - sse0 < _LR_CHI2 * s2):
+            kept.add(k)
+            notes.append(f"{stage.name}: {k} = {v:.4g} +- {se:.3g} kept: holding it at {n0:g} raises the weighted "
+                         f"error by {(sse1 - sse0) / s2:.1f} noise variances (it is determined together with others)")
+            continue
+        why[k] = f"not identified: standard error {se:.3g} >= |value| {abs(v):.3g}; held at its neutral value {n0:g}"
+        want, prob, th = rest, trial, th1
+        stderr = _stderr(prob, th, len(pts_p)) if want else {}
+        if not want:
+            break
     fitted = prob.params(th)
     p.update({k: fitted[k] for k in names if k in fitted})
-    stderr = _stderr(prob, th, len(pts_p))
-    cons = _check_constraints(stage, fitted, prob.grid)
+    facts["r2"] = _r2(stage, pts, fitted, nominal, version)
+    if secondary and want:
+        facts["runaway"] = _runaway(prob, th)
+    cons = _check_constraints(stage, fitted, prob.grid, prob.cgrid)
     for c in cons:
         if not c["holds"]:
             notes.append(f"{stage.name}: constraint {c['constraint']} broken on the grid of the fitted range "
                          f"(worst {c['worst']:.3g})")
     return StageFit(stage.name, stage.channel, want, why, init, facts, prob.objective(th), nfev,
                     time.perf_counter() - t0, log, est, stderr, cons, len(pts), len(sw))
+
+
+def _r2(stage: Stage, pts: pd.DataFrame, p: Mapping[str, float], nominal, version: str) -> float:
+    """R^2 of the stage's channel on every one of its points (1 - SS_res / SS_tot, unweighted, N or N*m)."""
+    y = pts[stage.channel].to_numpy(float)
+    res = _Eval(pts, stage, nominal, version)(p) - y
+    ok = np.isfinite(res) & np.isfinite(y)
+    sst = float(np.sum((y[ok] - y[ok].mean()) ** 2))
+    return 1.0 - float(np.sum(res[ok] ** 2)) / sst if sst > 0 and ok.sum() > 2 else float("nan")
+
+
+#: a term whose contribution reaches this many times the channel's largest measured value cancels another.
+#: Published sets do carry terms that nearly cancel: MFeval's MF 6.1 example refitted to its own Mx reaches
+#: 22 x (QSX4's sine of Fy against the linear QSX3 Fy); the runaway seen on a real record was ~1e8 x
+RUNAWAY_FACTOR = 1000.0
+
+
+def _runaway(prob: "_Problem", th) -> dict[str, float]:
+    """Coefficients whose term is larger than :data:`RUNAWAY_FACTOR` x the largest measured value.
+
+    The contribution of coefficient k is |dy/dtheta_k theta_k| (its term itself where y is linear in it,
+    to first order elsewhere); two such terms of opposite sign cancel on the data and leave the model
+    anywhere in between (QSX4 = -2.2e9 against QSX2 = 3.6e5 on a real cornering record).  Returns
+    name -> contribution / largest |y|.
+    """
+    r0 = prob.mu_residual(th)
+    J = prob.jac(th, r0)[: prob.y.size]
+    peak = float(np.nanmax(np.abs(prob.y * prob.inv))) if prob.y.size else 0.0
+    if not peak > 0:
+        return {}
+    size = np.nanmax(np.abs(J * np.asarray(th, float)[None, :]), axis=0) / peak
+    return {k: float(v) for k, v in zip(prob.vary, size) if v > RUNAWAY_FACTOR}
+
+
+def _drop_unfit(data: "MFData", p: dict[str, float], fits: dict, notes: list[str]) -> None:
+    """Declare a moment channel not fitted when its fit is worse than a constant or its terms run away.
+
+    Mx and My (and Mz) stages whose R^2 on their points is <= 0, or whose terms cancel
+    (:func:`_runaway`), are reset to the neutral coefficients and their stage to nothing varied: the file
+    declares the channel not fitted (``TYREFIT_NOT_FITTED``, header) instead of carrying a curve that is
+    worse than no curve.  Force channels are never dropped here: Fx and Fy are what a simulator runs on.
+    """
+    neutral = _mf61().neutral()
+    for ch, names in (("mx", ("Mx",)), ("my", ("My",)), ("mz", ("Mz0", "Mz", "Mz*"))):
+        st = [n for n in names if n in fits and fits[n].varied]
+        if not st:
+            continue
+        last = fits[st[-1]]
+        r2 = last.facts.get("r2", float("nan"))
+        run = {k: v for n in st for k, v in fits[n].facts.get("runaway", {}).items()}
+        if not (r2 <= 0 or run):
+            continue
+        why = (f"worse than a constant (R2 {r2:.2f} on its sweeps)" if r2 <= 0 else
+               "coefficients that run away to cancel each other (" +
+               ", ".join(f"{k} term {v:.0f} x the largest measured |{ch}|" for k, v in sorted(run.items())) + ")")
+        dropped = set()
+        for n in names:
+            if n in fits:
+                for k in fits[n].varied:
+                    p[k] = float(neutral.get(k, 0.0))
+                    fits[n].held[k] = f"{ch.upper()} not fitted: {why}; held at its neutral value"
+                dropped.update(fits[n].varied)
+                fits[n].varied = []
+        if "joint" in fits:  # the polish moved them too; they are neutral now
+            fits["joint"].varied = [k for k in fits["joint"].varied if k not in dropped]
+        notes.append(f"{ch.upper()} not written as fitted: {why}; the file declares it not fitted "
+                     f"(neutral coefficients)")
+
+
+#: at most this many coefficients of one stage are tried for a hold for their standard error (one per refit)
+_MAX_HOLDS = 8
+#: evaluations of the refit that tries a hold (it starts at the solution, one coefficient moved)
+_HOLD_NFEV = 12
+#: chi-square (1 dof) at 5 %: a hold whose weighted SSE rises by more than this many s^2 is refused
+_LR_CHI2 = 3.84
+
+
+def _weighted_sse(prob: "_Problem", th) -> tuple[float, float]:
+    """(sum of w r^2 over the data rows, its per-degree-of-freedom variance s^2) of ``prob`` at ``th``."""
+    r = prob.mu_residual(th)[: prob.y.size]
+    sse = float(np.sum(prob.weights * np.where(np.isfinite(r), r, 0.0) ** 2))
+    return sse, sse / max(1, prob.y.size - len(prob.vary))
+
+
+def _not_identified(prob: "_Problem", th, stderr: Mapping[str, float]) -> dict[str, tuple[float, float, float]]:
+    """Varied coefficients whose standard error is at least their own size: name -> (stderr, value, neutral).
+
+    Such a value is the noise's, not the tyre's (PEY5 = 2670 +- 2797 on a real record): it is held at the
+    neutral value of :func:`tyrefit.models.mf61.neutral` (PKY1 with the data's orientation).
+    """
+    neutral = _mf61().neutral()
+    out = {}
+    se_all = np.array([stderr.get(k, float("nan")) for k in prob.vary], float)
+    if not np.isfinite(se_all).any():  # no covariance at all (singular at the solution): nothing to say
+        return out
+    for k, v, lo, hi in zip(prob.vary, th, prob.lb, prob.ub):
+        if any(np.isfinite(b) and abs(v - b) <= 1e-6 * max(1.0, abs(b)) for b in (lo, hi)):
+            continue  # held by its bound: a constrained fit, said by _bound_warnings, its error means nothing
+        se = stderr.get(k, float("nan"))
+        se = se if np.isfinite(se) else math.inf  # a direction the data do not see at all
+        if se > 0 and se >= abs(v):
+            n0 = float(neutral.get(k, 0.0))
+            if k == "PKY1":
+                n0 = math.copysign(abs(n0), v)
+            out[k] = (float(se), float(v), n0)
+    return out
 
 
 def _bounds_of(name: str, p: Mapping[str, float]) -> tuple[float, float]:
@@ -1435,7 +1735,7 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
     ~1 % of peak Mz.  The combined and Mz sweeps also carry information on the pure-slip coefficients;
     this polish lets every fitted Fx/Fy/Mz coefficient move at once (from the staged values, so no
     multi-start), on the residuals of Fx (drive/brake and combined), Fy (every sweep: as the Fy and Fy0 stages) and Mz
-    (all), each weighted as in its stage, with the constraint penalties of the Fx0, Fy0, Fx and Fy
+    (all), each weighted as in its stage, with the constraint penalties of the Fx0, Fy0, Mz0, Fx and Fy
     stages.  Measured on generated data (1 % noise, 10 seeds): the worst combined-Mz error falls from
     1.095 to about 0.67 % of peak, Fx and Fy by a third.
     """
@@ -1468,7 +1768,8 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
         w = 1.0 / np.sqrt(cnt[inv]) / (fz[m] * (r0 if c == "mz" else 1.0))
         blocks.append((c, m, y[m], w))
     pens = [_Problem(_STAGE[st], data.subset(_STAGE[st].sweeps, _STAGE[st].channel), p, [], nominal, version, "l2",
-                     1.0, p.get("PKY1", -1.0)) for st in ("Fx0", "Fy0", "Fx", "Fy") if st in fits and fits[st].varied]
+                     1.0, p.get("PKY1", -1.0), mu_cap=fits[st].facts.get("mu_ceiling"))
+            for st in ("Fx0", "Fy0", "Mz0", "Fx", "Fy") if st in fits and fits[st].varied]
     lb = np.array([_bounds_of(k, p)[0] for k in vary], float)
     ub = np.array([_bounds_of(k, p)[1] for k in vary], float)
     kw = {"version": version}
@@ -1507,7 +1808,7 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
         return None
     q = dict(zip(vary, sol.x.tolist()))
     p.update(q)
-    cons = [c for pb in pens for c in _check_constraints(pb.stage, p, pb.grid)]
+    cons = [c for pb in pens for c in _check_constraints(pb.stage, p, pb.grid, pb.cgrid)]
     for c in cons:
         if not c["holds"]:
             notes.append(f"joint polish: constraint {c['constraint']} broken on the grid of the fitted range "
@@ -1536,20 +1837,29 @@ def _thin(pts: pd.DataFrame, per_sweep: int) -> pd.DataFrame:
 
 
 def _stderr(prob: _Problem, th, n: int) -> dict[str, float]:
+    """Standard errors at the solution; infinite for a coefficient the data do not move at all.
+
+    The covariance's pseudo-inverse gives a zero column (a term multiplied by a coefficient held at 0, say
+    QSX5 inside QSX4 cos(QSX5 ...) with QSX4 = 0) a zero variance; it is an unmeasured direction.
+    """
     try:  # least-squares weighting (1/n_s) at the solution, whatever the cost: tyrefit.fitting.core.covariance
-        cov, _ = covariance(prob.jac(th), prob.mu_residual(th), prob.weights, n_data=n)
-        return dict(zip(prob.vary, np.sqrt(np.clip(np.diag(cov), 0, None)).tolist()))
+        J = prob.jac(th)
+        cov, _ = covariance(J, prob.mu_residual(th), prob.weights, n_data=n)
+        se = np.sqrt(np.clip(np.diag(cov), 0, None))
+        norm = np.linalg.norm(J[:n] * np.sqrt(prob.weights[:n])[:, None], axis=0)
+        se = np.where(norm > 1e-12 * max(float(norm.max(initial=0.0)), 1e-300), se, np.inf)
+        return dict(zip(prob.vary, se.tolist()))
     except (np.linalg.LinAlgError, ValueError):  # pragma: no cover
         return {k: float("nan") for k in prob.vary}
 
 
-def _check_constraints(stage: Stage, p, grid) -> list[dict]:
+def _check_constraints(stage: Stage, p, grid, cgrid=None) -> list[dict]:
     out = []
-    for name, v, m in _factors(p, stage.name, *grid):
+    for name, v, m in _factors(p, stage.name, *grid) + _contract_terms(p, stage.name, cgrid):
         v = np.asarray(v, float)
         worst = float(np.min(v)) if v.size else float("nan")
         out.append({"stage": stage.name, "constraint": name, "worst": worst, "margin": m,
-                    "holds": bool(worst >= 0.5 * m - 1e-9) if m > 0 else bool(worst >= -1e-6)})
+                    "holds": bool(worst >= 0.5 * m - 1e-9) if m > 0 else bool(worst >= -G_TOL)})
     return out
 
 
@@ -1654,6 +1964,7 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
             if sf is None:
                 continue
             fits[st.name] = sf
+    _drop_unfit(data, p, fits, notes)
     if not fits:
         raise DataError(f"{', '.join(data.sources)}: no stage could be fitted (need slip-angle sweeps with fy or "
                         "slip-ratio sweeps with fx)")

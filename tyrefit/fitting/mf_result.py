@@ -74,6 +74,19 @@ def _noise_floor(df: pd.DataFrame, channel: str) -> float:
     return float(np.sqrt(tot / npts)) if npts else float("nan")
 
 
+def _by_record(df: pd.DataFrame, channel: str) -> dict[str, dict]:
+    """RMSE, noise floor (:func:`_noise_floor`) and points of ``channel`` per record (``source``)."""
+    out = {}
+    for src, g in df.groupby("source", sort=False):
+        m, y = g[f"model_{channel}"].to_numpy(float), g[channel].to_numpy(float)
+        ok = np.isfinite(m) & np.isfinite(y)
+        if ok.sum() < 10:
+            continue
+        out[os.path.basename(str(src))] = {"rmse": float(np.sqrt(np.mean((m[ok] - y[ok]) ** 2))),
+                                           "noise_floor": _noise_floor(g[ok], channel), "n": int(ok.sum())}
+    return out
+
+
 @dataclass
 class FitResultMF:
     """A fitted Magic Formula tyre and the statistics of the fit.
@@ -152,6 +165,8 @@ class FitResultMF:
                         else _noise_floor(df[np.isfinite(df[c])], c), "n": int(ok.sum()),
                         "unit": _UNIT[c], "peak": float(np.max(np.abs(y[ok]))),
                         "fitted": any(f.channel == c and f.varied for f in fits.values())}
+            if df["source"].nunique() > 1:  # each record judged against its own noise (rigs differ per channel)
+                stats[c]["by_record"] = _by_record(df[np.isfinite(df[c])], c)
         held: dict[str, str] = {}
         fitted: list[str] = []
         for f in fits.values():
@@ -163,11 +178,14 @@ class FitResultMF:
         cells = _cells(df)
         warns = list(warnings)
         for c, s in stats.items():
-            nf = s["noise_floor"]
-            if s["fitted"] and np.isfinite(nf) and nf > 0 and s["rmse"] > FLOOR_RATIO_WARN * nf:
-                warns.append(f"{c.upper()}: RMSE {s['rmse']:.4g} {s['unit']} is {s['rmse'] / nf:.1f} x the noise "
-                             f"floor {nf:.3g} {s['unit']}: the model does not reach the noise (structure left in "
-                             "the residuals; see the error per condition cell)")
+            for src, rs in (s.get("by_record") or {"": s}).items():
+                nf = rs["noise_floor"]
+                if s["fitted"] and np.isfinite(nf) and nf > 0 and rs["rmse"] > FLOOR_RATIO_WARN * nf:
+                    on = f" on {src}" if src else ""
+                    warns.append(f"{c.upper()}{on}: RMSE {rs['rmse']:.4g} {s['unit']} is {rs['rmse'] / nf:.1f} x "
+                                 f"the noise floor {nf:.3g} {s['unit']}{' of that record' if src else ''}: the model "
+                                 "does not reach the noise (structure left in the residuals; see the error per "
+                                 "condition cell)")
         return cls(params=dict(p), model=model, version=version, cost=cost, stages=fits, data=data, stats=stats,
                    cells=cells, not_identifiable=held, fitted=fitted, notes=list(dict.fromkeys(notes)),
                    tyre_info=dict(tyre_info), seconds=float(seconds), effects=list(effects or []), warnings=warns)
@@ -201,8 +219,12 @@ class FitResultMF:
         for s in self.data.sources:
             lines.append(f"data: {os.path.basename(str(s))}")
         for c, s in self.stats.items():
-            lines.append(f"RMSE {c.upper()} {s['rmse']:.4g} {s['unit'].replace('·', '*')} (R2 {s['r2']:.4f}, noise "
+            u = s['unit'].replace('·', '*')
+            lines.append(f"RMSE {c.upper()} {s['rmse']:.4g} {u} (R2 {s['r2']:.4f}, noise "
                          f"floor {s['noise_floor']:.3g}){'' if s['fitted'] else ' - not fitted'}")
+            for src, rs in (s.get("by_record") or {}).items():
+                lines.append(f"  {c.upper()} on {src}: RMSE {rs['rmse']:.4g} {u}, noise floor {rs['noise_floor']:.3g} "
+                             f"{u} ({rs['n']} points)")
         if self.effects:
             lines.append("Fy0 effects: " + ", ".join(self.effects))
         lines += self._speed_lines()
@@ -224,9 +246,29 @@ class FitResultMF:
                 "LMUV note: MFeval 4.0 sets LMUV = 0 whatever the file says; there the friction is the one at "
                 "zero slip speed"]
 
+    def contract(self) -> list:
+        """Rules of the physical-validity contract (:mod:`tyrefit.tyres.contract`) the tyre breaks.
+
+        Checked over the envelope the file declares (:meth:`ranges`), for the channels the fit carries,
+        with the peak-friction ceiling of the Fx0/Fy0 stages (1.15 x the data's peak |F|/Fz). Empty when
+        the tyre keeps it.
+        """
+        from ..tyres.contract import violations
+
+        chans = [c for c in ("fx", "fy", "mz") if self.stats.get(c, {}).get("fitted")]
+        ceiling = {ax: self.stages[st].facts.get("mu_ceiling") for ax, st in (("x", "Fx0"), ("y", "Fy0"))
+                   if st in self.stages and self.stages[st].varied}
+        return violations(self.params, self.ranges(), version=self.version, mu_ceiling=ceiling, channels=chans)
+
     def write_tir(self, path, *, force: bool = False) -> Path:
-        """Write the ``FITTYP = 61`` property file (every coefficient; neutral where not fitted)."""
+        """Write the ``FITTYP = 61`` property file (every coefficient; neutral where not fitted).
+
+        Raises :class:`~tyrefit.errors.FitError` and writes nothing when the tyre breaks the physical-validity
+        contract (:meth:`contract`) or would be refused by tyrefit's own reader (:meth:`MFTyre.check`).
+        """
         from ..io.mf_tir import write_mf_tir
+
+        self.require_valid()
 
         not_fitted = [s.name.lower() for s in STAGES if s.name != "Mz*"
                       and (s.name not in self.stages or not self.stages[s.name].varied)]
@@ -254,6 +296,22 @@ class FitResultMF:
                       f"{self.params.get('PHY3', 0.0):.10g}", text, count=1)
         write_text(path, text, force=force)
         return Path(path)
+
+    def require_valid(self) -> None:
+        """Raise :class:`~tyrefit.errors.FitError` if the tyre breaks the contract or its reader's check."""
+        from ..errors import FitError
+        from ..tyres.mf import MFTyre
+
+        problems = [str(v) for v in self.contract()]
+        tyre = MFTyre(params=dict(self.params), family="MF52" if self.version == "5.2" else "MF61",
+                      version=self.version, ranges=self.ranges(), fnomin=self.params.get("FNOMIN"),
+                      unloaded_radius=self.params.get("UNLOADED_RADIUS"),
+                      nominal_pressure=self.params.get("NOMPRES"))
+        problems += tyre.check()
+        if problems:
+            more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+            raise FitError(f"the fitted tyre is not physical over the range it would declare, not written: "
+                           f"{problems[0]}{more}")
 
     def summary(self) -> str:
         lines = [f"Magic Formula {self.version} fit, {len(self.fitted)} coefficients fitted in {self.seconds:.1f} s"]

@@ -52,7 +52,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-__all__ = ["PUBLISHED_MF61", "published_mf61", "make_sweeps", "make_record", "generate", "SEED", "PROGRAMME"]
+__all__ = ["PUBLISHED_MF61", "published_mf61", "contract_mf61", "make_sweeps", "make_record", "generate", "SEED", "PROGRAMME"]
 
 SEED = 20251125
 _DEG = math.pi / 180.0
@@ -104,6 +104,18 @@ PROGRAMME = {
 }
 
 
+def contract_mf61() -> dict[str, float]:
+    """:func:`published_mf61` with its combined-slip shifts removed (RHX1 = RHY1 = RHY2 = 0).
+
+    As published, the set's combined-slip weight G_yk reaches 1.028 (and G_xa 1.002) inside its own
+    data range, near kappa = 0 at every slip angle: combined slip adds lateral force there, which the
+    physical-validity contract of every tyre tyrefit writes forbids (:mod:`tyrefit.tyres.contract`).  A
+    fit under the contract cannot come closer than that to the published curves; this set keeps the
+    contract (G <= 1 everywhere), so a fit can recover it to the noise.
+    """
+    return dict(published_mf61(), RHX1=0.0, RHY1=0.0, RHY2=0.0)
+
+
 def published_mf61() -> dict[str, float]:
     """A complete MF 6.1 parameter set: :data:`PUBLISHED_MF61` over :func:`tyrefit.models.mf61.neutral`."""
     from ..models import mf61
@@ -121,7 +133,7 @@ def _eval(p, fz, kappa, alpha, gamma, pressure, speed):
 
 def make_sweeps(p: dict | None = None, *, seed: int = SEED, noise: float = 0.01, loads=None, pressures=None,
                 cambers_deg=None, slip_angles_deg=None, n_points: int = 41, combined: bool = True,
-                pure: bool = True, speeds=None) -> pd.DataFrame:
+                pure: bool = True, speeds=None, kappa_max: float | None = None) -> pd.DataFrame:
     """Set-point sweeps of the tyre ``p`` (default :func:`published_mf61`) with relative noise.
 
     Parameters
@@ -142,6 +154,8 @@ def make_sweeps(p: dict | None = None, *, seed: int = SEED, noise: float = 0.01,
         forward speeds [m/s] (default the one :data:`PROGRAMME` speed); every sweep is repeated at each
         speed (the outermost loop, so the default gives the same runs and noise as a single speed).  The
         forces depend on speed through the slip speed in the friction law (LMUV, Pacejka 4.E7) and My.
+    kappa_max : float, optional
+        the slip-ratio sweeps' end, +-kappa_max (default :data:`PROGRAMME`'s).
 
     Returns
     -------
@@ -156,7 +170,8 @@ def make_sweeps(p: dict | None = None, *, seed: int = SEED, noise: float = 0.01,
     pressures = P["pressures"] if pressures is None else pressures
     cambers = P["cambers_deg"] if cambers_deg is None else cambers_deg
     alphas = P["slip_angles_deg"] if slip_angles_deg is None else slip_angles_deg
-    kap = np.linspace(-P["kappa_max"], P["kappa_max"], n_points)
+    km = P["kappa_max"] if kappa_max is None else float(kappa_max)
+    kap = np.linspace(-km, km, n_points)
     alp = np.linspace(-P["alpha_max_deg"], P["alpha_max_deg"], n_points) * _DEG
     speeds = [P["speed"]] if speeds is None else list(speeds)
     frames = []
