@@ -1,0 +1,68 @@
+"""The MF model by parts (tyrefit.fitting.mf_parts): the same numbers as mf61.forces, and the Mx Jacobian."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tyrefit.fitting import mf_parts
+from tyrefit.models import mf61
+from tyrefit.synthetic import ttc_drivebrake as gen
+
+_DEG = np.pi / 180
+
+
+def _points(n=400, seed=0):
+    rng = np.random.default_rng(seed)
+    p = gen.published_mf61()
+    fz = rng.uniform(0.4, 1.6, n) * p["FNOMIN"]
+    kap = rng.uniform(-0.2, 0.2, n)
+    alp = rng.uniform(-12, 12, n) * _DEG
+    gam = rng.choice([0.0, 2.0, 4.0], n) * _DEG
+    pr = rng.choice([220e3, 260e3, 300e3], n)
+    sp = np.full(n, 11.1)
+    return p, (fz, kap, alp, gam, pr, sp)
+
+
+@pytest.mark.parametrize("version", ["6.1", "5.2"])
+def test_state_and_updates_are_forces(version):
+    p, args = _points()
+    f = mf_parts.Forces(version, *args)
+    f.bind(p)
+    rng = np.random.default_rng(1)
+    names = ["PDX1", "PKX1", "PCY1", "PKY1", "PEY1", "QBZ1", "QDZ1", "QDZ6", "RBX1", "RHX1", "RBY1", "RVY1", "SSZ1",
+             "SSZ2", "LMUV", "FNOMIN"]
+    c, b = f.coefficients([])
+    st = f.state(c, b)
+    fz, kap, alp, gam, pr, sp = args
+    ref = mf61.forces(p, fz, kap, alp, gam, pr, sp, version=version)
+    for ch in ("fx", "fy", "mz"):
+        np.testing.assert_array_equal(f.out(st, ch), ref[ch])
+    for k in names:
+        v = float(p.get(k, 0.0)) * (1 + 0.05 * rng.standard_normal()) + 0.01
+        q = dict(p, **{k: v})
+        ref = mf61.forces(q, fz, kap, alp, gam, pr, sp, version=version)
+        cj, bj = f.coefficients([(k, v)])
+        sj = f.update(st, cj, bj, mf_parts.group(k, f.v52))
+        for ch in ("fx", "fy", "mz"):
+            np.testing.assert_allclose(f.out(sj, ch), ref[ch], rtol=1e-12, atol=1e-9, err_msg=f"{k} {ch}")
+        untouched = set(("fx", "fy", "mz")) - set(mf_parts.TOUCHES[mf_parts.group(k, f.v52)])
+        for ch in untouched:  # a channel the group does not touch does not move
+            np.testing.assert_array_equal(f.out(sj, ch), f.out(st, ch))
+
+
+def test_mx_jacobian_is_the_derivative():
+    p, args = _points()
+    p.update(QSX4=0.4, QSX5=0.3, QSX6=1.1, QSX7=0.5, QSX8=1.2, QSX9=0.4, QSX10=0.1, QSX11=0.8, QSX12=0.3,
+             QSX13=0.01, QSX14=0.02, PPMX1=0.3, QSX2=0.5)
+    f = mf_parts.Forces("6.1", *args)
+    f.bind(p)
+    c, b = f.coefficients([])
+    fy = f.out(f.state(c, b), "fy")
+    names = [f"QSX{i}" for i in range(1, 15)] + ["PPMX1"]
+    J = mf_parts.mx_jacobian(c, b, fy, names)
+    for j, k in enumerate(names):
+        h = 1e-6 * max(1.0, abs(c[k]))
+        up, dn = dict(c, **{k: c[k] + h}), dict(c, **{k: c[k] - h})
+        fd = (mf61._mx(up, b, fy) - mf61._mx(dn, b, fy)) / (2 * h)
+        np.testing.assert_allclose(J[:, j], fd, rtol=1e-6, atol=1e-6 * np.max(np.abs(fd)) + 1e-9, err_msg=k)
