@@ -61,8 +61,41 @@ def test_mx_jacobian_is_the_derivative():
     fy = f.out(f.state(c, b), "fy")
     names = [f"QSX{i}" for i in range(1, 15)] + ["PPMX1"]
     J = mf_parts.mx_jacobian(c, b, fy, names)
-    for j, k in enumerate(names):
+    assert list(J) == names
+    for k in names:
         h = 1e-6 * max(1.0, abs(c[k]))
         up, dn = dict(c, **{k: c[k] + h}), dict(c, **{k: c[k] - h})
         fd = (mf61._mx(up, b, fy) - mf61._mx(dn, b, fy)) / (2 * h)
-        np.testing.assert_allclose(J[:, j], fd, rtol=1e-6, atol=1e-6 * np.max(np.abs(fd)) + 1e-9, err_msg=k)
+        np.testing.assert_allclose(J[k], fd, rtol=1e-6, atol=1e-6 * np.max(np.abs(fd)) + 1e-9, err_msg=k)
+
+
+@pytest.mark.parametrize("pure", [True, False])
+def test_mz_jacobian_is_the_derivative(pure):
+    """Pure Mz0 (kappa = 0, Fx = 0, as the Mz0 stage) and combined Mz (the Mz and Mz* stages)."""
+    p, args = _points(seed=3)
+    if pure:
+        args = (args[0], 0.0 * args[1]) + args[2:]
+    p.update(QDZ10=0.05, QDZ11=0.02, PPZ1=0.3, PPZ2=0.2, QBZ4=0.1, QBZ5=-0.2, QEZ5=0.3, QHZ3=0.01, QHZ4=0.02,
+             SSZ1=0.01, SSZ2=0.02, SSZ3=0.1, SSZ4=0.05, QBZ10=0.1)
+    f = mf_parts.Forces("6.1", *args)
+    f.bind(p)
+    c, b = f.coefficients([])
+    st = f.state(c, b)
+    fyp = st["fyp"]
+    if pure:
+        fy_prime, kxk, fx, fy = st["fyg0"], 0.0, 0.0, fyp["fy0"]
+    else:
+        fy_prime, kxk, fx, fy = st["fy_prime"], st["kxk"], st["fx"], st["fy"]
+    names = list(mf61.GROUPS["mz0"]) + list(mf61.GROUPS["mz"])
+
+    def mz(cc):
+        return mf61._mz(cc, b, mf61._mz_parts(cc, b, fyp), fy_prime, kxk, fx, fy)[0]
+
+    J = mf_parts.mz_jacobian(c, b, fyp, fy_prime, kxk, fx, fy, names)
+    assert set(J) == set(names)
+    for k in names:
+        h = 1e-6 * max(1.0, abs(c[k]))
+        fd = (mz(dict(c, **{k: c[k] + h})) - mz(dict(c, **{k: c[k] - h}))) / (2 * h)
+        fd = np.broadcast_to(fd, J[k].shape)
+        ok = np.abs(fd) < 1e3 * (np.median(np.abs(fd)) + 1e-9)  # not across a kink (E_t = 1, alpha_t = 0)
+        np.testing.assert_allclose(J[k][ok], fd[ok], rtol=2e-5, atol=1e-6 * np.max(np.abs(fd)) + 1e-9, err_msg=k)

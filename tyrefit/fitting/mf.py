@@ -56,13 +56,20 @@ divided by ``Fz R0`` instead of ``Fz``.
 
 Jacobian
 --------
-Forward differences, one evaluation of the stage's own channel per varied
-coefficient (a stage varies 4-27 coefficients; the model is vectorised over
-all points, so a Jacobian costs k+1 array evaluations).  The step is
-``sqrt(eps) * max(|theta|, typical size)`` per coefficient.  The stages are
-what makes the fit fast: the plain alternative (all coefficients at once,
-see ``benchmarks/bench_fit_mf.py``) evaluates every channel of the whole
-model for every one of ~100 coefficients per Jacobian.
+Analytic where the channel is a closed form in the stage's coefficients: Mx
+(QSX*, PPMX1) and Mz in the aligning coefficients (QBZ*, QCZ1, QDZ*, QEZ*,
+QHZ*, PPZ*, SSZ*; MF 6.1), :mod:`tyrefit.fitting.mf_parts`.  Elsewhere forward
+differences, one evaluation of the stage's own channel per varied coefficient
+(a stage varies 4-27 coefficients; the model is vectorised over all points),
+with the step ``sqrt(eps) * max(|theta|, typical size)`` per coefficient.  The
+coefficient mapping is built once per stage and only the varied entries
+change; the parts of the model a stage does not vary (the pure-slip forces
+of the combined stages, Fy0 of the Mz0 stage) are evaluated once, and a
+column of the joint polish recomputes only the parts its coefficient enters
+(:class:`tyrefit.fitting.mf_parts.Forces`).  The stages are what makes the
+fit fast: the plain alternative (all coefficients at once, see
+``benchmarks/bench_fit_mf.py``) evaluates every channel of the whole model
+for every one of ~100 coefficients per Jacobian.
 
 Initial values
 --------------
@@ -850,14 +857,27 @@ class _Eval:
             self._cache = self._parts(c, b)
         return self._partial(c, b)
 
-    def jacobian(self, p, changed) -> np.ndarray | None:
-        """Analytic d(channel)/d(changed) at ``p`` where the model has one (Mx, MF 6.1), else None."""
-        if not (mf_parts.FAST and self.mf is mf61 and self.channel == "mx" and self.pure is None):
-            return None
-        if self._forces is None or self._cache is None:
+    def jacobian(self, p, changed) -> dict[str, np.ndarray]:
+        """Analytic d(channel)/d(name) at ``p`` for the names of ``changed`` where the model has one (MF 6.1 Mx
+        and Mz in their own coefficients, :mod:`tyrefit.fitting.mf_parts`): {name: column}; {} elsewhere."""
+        if not (mf_parts.FAST and self.mf is mf61 and self.channel in ("mx", "mz") and self.version != "5.2"
+                and self.pure in (None, "kappa")):
+            return {}
+        if self.pure == "kappa" and self.channel == "mx":
+            return {}
+        if self._forces is None or (self.pure is None and self._cache is None) \
+                or (self.pure == "kappa" and self._pure_mz is None):
             self(p, changed)  # binds the mapping and the fixed parts
         c, b = self._forces.coefficients([(k, p[k]) for k in changed])
-        return mf_parts.mx_jacobian(c, b, self._cache["fy"], list(changed))
+        if self.channel == "mx":
+            return mf_parts.mx_jacobian(c, b, self._cache["fy"], list(changed))
+        if self.pure == "kappa":  # mf61.mz0: kappa = 0, Fx = 0, Fy' = Fy0 at zero camber
+            if self._pure_mz is None:
+                return {}
+            fyp, fy_g0 = self._pure_mz
+            return mf_parts.mz_jacobian(c, b, fyp, fy_g0, 0.0, 0.0, fyp["fy0"], list(changed))
+        k = self._cache
+        return mf_parts.mz_jacobian(c, b, k["fyp"], k["fy_prime"], k["kxk"], k["fx"], k["fy"], list(changed))
 
     # -- the later stages: only the part that depends on the stage's own coefficients is re-evaluated
     _cache = None
@@ -995,7 +1015,8 @@ class _Problem:
         return r
 
     def jac(self, theta, r0=None):
-        """Forward-difference Jacobian of :meth:`mu_residual` (steps of each coefficient's typical size)."""
+        """Jacobian of :meth:`mu_residual`: analytic columns where the model has them (:meth:`_Eval.jacobian`),
+        forward differences for the others (steps of each coefficient's typical size)."""
         theta = np.asarray(theta, float)
         last = getattr(self, "_last", None)
         if r0 is None and mf_parts.FAST and last is not None and np.array_equal(last[0], theta):
@@ -1004,12 +1025,13 @@ class _Problem:
             r0 = self.mu_residual(theta)
         J = np.empty((r0.size, theta.size))
         eps = math.sqrt(np.finfo(float).eps)
-        dy = self.eval.jacobian(self.params(theta), self.vary) if r0.size == self.y.size else None
-        if dy is not None:  # analytic (Mx); rows the residual replaced (non-finite model) do not move
-            dy = self.inv[:, None] * dy
-            J[:] = np.where(np.isfinite(dy), dy, 0.0)
-            return J
+        # analytic columns (Mx, Mz in their own coefficients); those stages have no penalty rows
+        cols = self.eval.jacobian(self.params(theta), self.vary) if r0.size == self.y.size else {}
         for j in range(theta.size):
+            if self.vary[j] in cols:  # rows the residual replaced (non-finite model) do not move
+                dy = self.inv * cols[self.vary[j]]
+                J[:, j] = np.where(np.isfinite(dy), dy, 0.0)
+                continue
             h = eps * max(abs(theta[j]), _typical_step(self.vary[j]))
             t = theta.copy()
             t[j] = t[j] + h if t[j] + h <= self.ub[j] else t[j] - h
@@ -1491,6 +1513,8 @@ _JOINT_STAGES = ("Fx0", "Fy0", "Mz0", "Fx", "Fy", "Mz")
 _JOINT_CHANNELS = (("fx", ("longitudinal", "combined")), ("fy", ("lateral", "combined", "longitudinal")),
                    ("mz", ("lateral", "longitudinal", "combined")))
 _JOINT_NFEV = 8
+#: the parts of the model (mf_parts.group) whose coefficients enter each stage's constraint factors (_factors)
+_PENALTY_GROUPS = {"Fx0": ("fx0", "basic"), "Fy0": ("fy0", "basic"), "Fx": ("gxa", "basic"), "Fy": ("gyk", "basic")}
 #: points of the joint polish in all (every k-th point of each sweep; between 60 and 250 per sweep)
 _JOINT_POINTS = 20000
 
@@ -1576,7 +1600,19 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
         eps = math.sqrt(np.finfo(float).eps)
         pen0 = [pb.penalties(dict(p, **dict(zip(vary, th.tolist())))) for pb in pens]
         nfev[0] += th.size  # one (partial) evaluation per column, as the forward differences counted
+        # the aligning coefficients (trail, residual torque, s) move Mz alone: analytic columns (mf_parts.mz_jacobian)
+        mz_cols = mf_parts.mz_jacobian(c, b, st["fyp"], st["fy_prime"], st["kxk"], st["fx"], st["fy"],
+                                       [k for k, g in zip(vary, groups) if g in ("mz0", "ssz")])
         for j in range(th.size):
+            if vary[j] in mz_cols:
+                i0 = 0
+                for ch, m, y, w in blocks:
+                    n = int(m.sum())
+                    if ch == "mz":
+                        col = w * mz_cols[vary[j]][m]
+                        J[i0:i0 + n, j] = np.where(np.isfinite(col), col, 0.0)
+                    i0 += n
+                continue  # the penalties (Fx0, Fy0, Fx, Fy factors) do not hold aligning coefficients
             h = eps * max(abs(th[j]), _typical_step(vary[j]))
             t = th[j] + h if th[j] + h <= ub[j] else th[j] - h
             cj = dict(c)
@@ -1594,6 +1630,9 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
             qj = dict(p, **dict(zip(vary, th.tolist())))
             qj[vary[j]] = float(t)
             for pb, r0 in zip(pens, pen0):
+                if groups[j] not in _PENALTY_GROUPS[pb.stage.name]:  # a factor the coefficient does not enter
+                    i0 += r0.size
+                    continue
                 rj = pb.penalties(qj)
                 J[i0:i0 + rj.size, j] = (np.where(np.isfinite(rj), rj, 1e3) - np.where(np.isfinite(r0), r0, 1e3)) \
                     / (t - th[j])

@@ -9,7 +9,8 @@ coefficients changed, so here
 * the parts of Fx, Fy and Mz are kept (:meth:`Forces.state`), and a change of one coefficient recomputes only
   the parts that depend on it (:meth:`Forces.update`): a finite-difference column of an Mz0 coefficient
   re-evaluates the trail and residual torque, not Fx0, Fy0 and the combined-slip weights;
-* Mx has an analytic Jacobian (:func:`mx_jacobian`; MF 6.1 form, 4.E69 with the manual's terms).
+* Mx and Mz have analytic Jacobians in their own coefficients (:func:`mx_jacobian`, MF 6.1 form of 4.E69 with
+  the manual's terms; :func:`mz_jacobian`, 4.E31-4.E47 and 4.E71-4.E78).
 
 Every value is computed by the model's own stage functions in the order :func:`~tyrefit.models.mf61.forces`
 uses, so the residuals are those of the plain evaluation to the last bit.
@@ -147,8 +148,8 @@ class Forces:
         return np.broadcast_to(np.asarray(s[channel], dtype=float), self.shape)
 
 
-def mx_jacobian(c, b, fy, names) -> np.ndarray | None:
-    """d Mx / d theta for the MF 6.1 Mx (``mf61._mx``), one column per name; None where not analytic.
+def mx_jacobian(c, b, fy, names) -> dict[str, np.ndarray]:
+    """d Mx / d theta for the MF 6.1 Mx (``mf61._mx``): {name: column} for the names it covers ({} for MF 5.2).
 
     Mx = R0 Fz LMX [QSX1 LVMX - QSX2 g (1 + PPMX1 dpi) + QSX3 Fy/Fz0 + QSX4 A S + QSX10 T g]
          + R0 LMX [Fy (QSX13 + QSX14 |g|) - Fz QSX12 g |g|]
@@ -156,7 +157,7 @@ def mx_jacobian(c, b, fy, names) -> np.ndarray | None:
     T = atan(QSX11 Fz/Fz0).
     """
     if b.v52:
-        return None
+        return {}
     r0, fz0, fz, g = c["UNLOADED_RADIUS"], c["FNOMIN"], b.fz, b.gamma
     lmx = c["LMX"]
     k = r0 * fz * lmx
@@ -186,7 +187,97 @@ def mx_jacobian(c, b, fy, names) -> np.ndarray | None:
         "QSX13": r0 * lmx * fy,
         "QSX14": r0 * lmx * fy * np.abs(g),
     }
-    if any(n not in col for n in names):
-        return None
     shape = np.shape(fz)
-    return np.column_stack([np.broadcast_to(np.asarray(col[n], dtype=float), shape) for n in names])
+    return {n: np.broadcast_to(np.asarray(col[n], dtype=float), shape) for n in names if n in col}
+
+
+def mz_jacobian(c, b, fyp, fy_prime, kxk, fx, fy, names) -> dict[str, np.ndarray]:
+    """d Mz / d theta (MF 6.1, ``mf61._mz_parts`` and ``mf61._mz``) for the aligning coefficients among ``names``.
+
+    Mz = -t Fy' + Mzr + s Fx (4.E71) with the other channels held (the Mz stages vary only the trail, the
+    residual torque and s).  t = cos(C_t atan(B_t x - E_t (B_t x - atan(B_t x)))) D_t cos(alpha') LFZO
+    (4.E73), x = alpha_t,eq (A54); E_t = min(E0 (1 + (QEZ4 + QEZ5 g) 2/pi atan(B_t C_t alpha_t)), 1) (4.E44);
+    Mzr = D_r cos(atan(B_r alpha_r,eq)) (4.E75); s (4.E76).  Returns {name: column} for the names it covers
+    (QBZ*, QCZ1, QDZ*, QEZ*, QHZ*, PPZ*, SSZ*); {} for MF 5.2.
+    """
+    if b.v52:
+        return {}
+    eps = mf61.EPSILON
+    fz, dfz, dpi, fz0p = b.fz, b.dfz, b.dpi, b.fz0p
+    g = gs = b.gamma
+    r0, red, lfzo = c["UNLOADED_RADIUS"], b.red, c["LFZO"]
+    kya = fyp["kya"]
+    kyap = kya + eps * mf61._sgn(kya)
+    ar = b.astar + fyp["shy"] + fyp["svy"] / kyap
+    sht = c["QHZ1"] + c["QHZ2"] * dfz + (c["QHZ3"] + c["QHZ4"] * dfz) * gs
+    b1 = c["QBZ1"] + c["QBZ2"] * dfz + c["QBZ3"] * dfz ** 2
+    b2 = 1.0 + c["QBZ4"] * g + c["QBZ5"] * np.abs(g)
+    bk = c["LKY"] / b.lmuy_s
+    bt = b1 * b2 * bk
+    ct = c["QCZ1"]
+    d0 = fz * (r0 / fz0p) * c["LTR"]
+    d1 = c["QDZ1"] + c["QDZ2"] * dfz
+    d2 = 1.0 - c["PPZ1"] * dpi
+    d3 = 1.0 + c["QDZ3"] * g + c["QDZ4"] * g ** 2
+    dt0 = d0 * d1 * d2
+    dt = dt0 * d3
+    at = b.astar + sht
+    e0 = c["QEZ1"] + c["QEZ2"] * dfz + c["QEZ3"] * dfz ** 2
+    eg = c["QEZ4"] + c["QEZ5"] * gs
+    earg = bt * ct * at
+    a_e = np.arctan(earg)
+    e1 = 1.0 + eg * (2.0 / np.pi) * a_e
+    free = (e0 * e1) < 1.0                       # E_t <= 1: no derivative where it is limited
+    et = np.minimum(e0 * e1, 1.0)
+    de = np.where(free, 1.0, 0.0)
+    de_darg = de * e0 * eg * (2.0 / np.pi) / (1.0 + earg ** 2)   # d E_t / d (B_t C_t alpha_t)
+    kk = (kxk / kyap) ** 2 * b.kappa ** 2
+    tan_t = np.tan(at)
+    q = np.sqrt(tan_t ** 2 + kk)
+    x = np.arctan(q) * np.sign(at)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        dx_dat = np.where(q > 0, np.sign(at) * tan_t * (1.0 + tan_t ** 2) / (q * (1.0 + q ** 2)), 1.0)
+    q_r = np.sqrt(np.tan(ar) ** 2 + kk)
+    ar_eq = np.arctan(q_r) * np.sign(ar)
+    u = bt * x
+    v = u - et * (u - np.arctan(u))
+    w = np.arctan(v)
+    kt = b.cos_ap * lfzo * red
+    dt_dv = -np.sin(ct * w) * ct / (1.0 + v ** 2) * dt * kt
+    dv_du = 1.0 - et * (1.0 - 1.0 / (1.0 + u ** 2))
+    dv_de = -(u - np.arctan(u))
+    # dMz/d(intermediate) with dMz/dt = -Fy'
+    m_t = -fy_prime
+    m_dt = m_t * np.cos(ct * w) * kt                                     # through D_t
+    m_bt = m_t * dt_dv * (dv_du * x + dv_de * de_darg * ct * at)         # through B_t (the argument and E_t)
+    m_ct = m_t * (-np.sin(ct * w) * w * dt * kt + dt_dv * dv_de * de_darg * bt * at)
+    m_at = m_t * dt_dv * (dv_du * bt * dx_dat + dv_de * de_darg * bt * ct)
+    m_et = m_t * dt_dv * dv_de * de
+    br = c["QBZ9"] * c["LKY"] / b.lmuy_s + c["QBZ10"] * fyp["by"] * fyp["cy"]
+    dr = (fz * r0 * ((c["QDZ6"] + c["QDZ7"] * dfz) * c["LRES"]
+                     + ((c["QDZ8"] + c["QDZ9"] * dfz) * (1.0 + c["PPZ2"] * dpi)
+                        + (c["QDZ10"] + c["QDZ11"] * dfz) * np.abs(gs)) * gs * c["LKZC"])
+          * b.lmuy_s * np.cos(b.alpha))
+    m_dr = np.cos(np.arctan(br * ar_eq)) * red                           # C_r = 1
+    m_br = -dr * np.sin(np.arctan(br * ar_eq)) * ar_eq / (1.0 + (br * ar_eq) ** 2) * red
+    rr = fz * r0 * b.lmuy_s * np.cos(b.alpha)
+    rg = rr * gs * c["LKZC"]
+    rs = r0 * c["LS"] * fx
+    cols = {
+        "QBZ1": m_bt * b2 * bk, "QBZ2": m_bt * dfz * b2 * bk, "QBZ3": m_bt * dfz ** 2 * b2 * bk,
+        "QBZ4": m_bt * b1 * g * bk, "QBZ5": m_bt * b1 * np.abs(g) * bk,
+        "QCZ1": m_ct,
+        "QDZ1": m_dt * d0 * d2 * d3, "QDZ2": m_dt * d0 * dfz * d2 * d3, "PPZ1": -m_dt * d0 * d1 * dpi * d3,
+        "QDZ3": m_dt * dt0 * g, "QDZ4": m_dt * dt0 * g ** 2,
+        "QEZ1": m_et * e1, "QEZ2": m_et * dfz * e1, "QEZ3": m_et * dfz ** 2 * e1,
+        "QEZ4": m_et * e0 * (2.0 / np.pi) * a_e, "QEZ5": m_et * e0 * (2.0 / np.pi) * a_e * gs,
+        "QHZ1": m_at, "QHZ2": m_at * dfz, "QHZ3": m_at * gs, "QHZ4": m_at * dfz * gs,
+        "QDZ6": m_dr * rr * c["LRES"], "QDZ7": m_dr * rr * dfz * c["LRES"],
+        "QDZ8": m_dr * rg * (1.0 + c["PPZ2"] * dpi), "QDZ9": m_dr * rg * dfz * (1.0 + c["PPZ2"] * dpi),
+        "PPZ2": m_dr * rg * (c["QDZ8"] + c["QDZ9"] * dfz) * dpi,
+        "QDZ10": m_dr * rg * np.abs(gs), "QDZ11": m_dr * rg * dfz * np.abs(gs),
+        "QBZ9": m_br * c["LKY"] / b.lmuy_s, "QBZ10": m_br * fyp["by"] * fyp["cy"],
+        "SSZ1": rs, "SSZ2": rs * fy / c["FNOMIN"], "SSZ3": rs * g, "SSZ4": rs * dfz * g,
+    }
+    shape = np.shape(fz)
+    return {n: np.broadcast_to(np.asarray(cols[n], dtype=float), shape) for n in names if n in cols}
