@@ -830,10 +830,13 @@ class _Eval:
     def _diff(self, p) -> list[str] | None:
         """The names in which ``p`` differs from the bound mapping (None when one is not a coefficient)."""
         p0, c0 = self._p0, self._forces.c0
-        out = [k for k, v in p.items() if k not in p0 or (p0[k] is not v and p0[k] != v)]
-        if any(k not in c0 for k in out) or any(k not in p for k in p0):
+        if p.keys() != p0.keys():
             return None
-        return out
+        try:  # the items' set difference, in C (values of a fit's mapping are floats)
+            out = [k for k, _ in p.items() - p0.items()]
+        except TypeError:  # an unhashable value (an array of candidates)
+            out = [k for k, v in p.items() if p0[k] is not v and p0[k] != v]
+        return out if all(k in c0 for k in out) else None
 
     def _fast(self, c, b, changed) -> np.ndarray:
         mf = self.mf
