@@ -1,17 +1,25 @@
-"""MF 6.1 fit of a TTC-style cornering + drive/brake pair: staged fit vs plain finite-difference least squares.
+"""MF 6.1 fit of a TTC-size cornering + drive/brake pair: today's fit vs the fit of the branch point vs plain scipy.
 
 Data (synthetic, nothing here is a measurement): :mod:`tyrefit.synthetic.ttc_drivebrake`
 records of MFeval's published MF 6.1 example tyre in the FSAE TTC ``.dat``
 layout (SAE signs, warm-up, relaxation lag, drift, noise): a cornering record
 and a drive/brake record (slip-ratio sweeps at 0, -3, -6 deg) at 5 loads x 3
-pressures x 3 cambers, about 60 000 samples together.
+pressures x 3 cambers, 50 Hz, about 136 000 samples together (the size of the
+real TTC pair of issue 23).
 
-Measured (one thread of BLAS, :func:`tyrefit.fitting._blas.single_threaded_blas`):
+Measured in one run (one thread of BLAS, :func:`tyrefit.fitting._blas.single_threaded_blas`), wall and CPU
+seconds of each, and the load average (the machine is shared; CPU seconds are the comparable figure):
 
 * ``tyrefit fit A.dat B.dat --model mf61`` end to end in-process: reading and
   segmenting both files, gathering, the staged fit (Fx0 -> Fy0 -> Mz0 ->
-  combined Fx, Fy, Mz -> Mx), statistics.  Goal <= 60 s on the 2-core machine.
-* baseline, same run: plain ``scipy.optimize.least_squares`` (``trf``, 2-point
+  combined Fx, Fy, Mz -> joint polish -> Mx), statistics.  Goal <= 60 s wall on
+  the 2-core machine, <= 25 s CPU.
+* the same fit with :data:`tyrefit.fitting.mf_parts.FAST` = False: the
+  evaluation of the branch point (the coefficient mapping rebuilt at every
+  evaluation, every part of the model for every forward-difference column,
+  forward differences for Mx and Mz), the "today's fit" of issue 23 item 8.  Its
+  RMSEs are recorded beside the new fit's.
+* plain ``scipy.optimize.least_squares`` (``trf``, 2-point
   finite-difference Jacobian, no scaling) on the *same* residual - every
   channel of every sweep at once, each point (model - data)/Fz (moments /(Fz R0))
   weighted 1/sqrt(n_sweep), the model evaluated by
@@ -20,17 +28,16 @@ Measured (one thread of BLAS, :func:`tyrefit.fitting._blas.single_threaded_blas`
   values).  It is stopped when its cost reaches the staged fit's cost on that
   residual (+1 %) - "equal RMSE" - or when its time budget (4 x the staged
   fit's time, at least 60 s; 600 s with ``TYREFIT_BENCH_FULL=1``; any number
-  of seconds with ``TYREFIT_BENCH_FD_BUDGET``) runs out, or when it converges
-  on its own tolerances above that cost; then the ratio is a lower bound and
-  the row says which stop it was and the best cost reached.  Wall and CPU
-  seconds of both, and the load average, are recorded (the machine is shared).
+  of seconds with ``TYREFIT_BENCH_FD_BUDGET``; 0 skips it) runs out, or when it
+  converges on its own tolerances above that cost; then the ratio is a lower
+  bound and the row says which stop it was and the best cost reached.
 
-Measured on the shared 2-core machine (2026-11-26, commit 0f28fa1 and its parent fits): the staged fit
-21-23 s CPU, 24 s wall at load average 1.4 and 42-46 s wall at 3-5 (the other processes take the
-second core and half of ours).  The baseline, run with ``TYREFIT_BENCH_FD_BUDGET=5400`` and stopped
-by hand after 2961 s wall (1796 s CPU, 46 000 residual evaluations): best cost 1.135 x the staged
-fit's, flat since about 1600 s (1.136 then) - it had not reached equal RMSE, so the ratio is at least
-80 x in CPU seconds.
+Measured on the shared 2-core machine (2026-11-27, commit c3e7270, load average 3.9-4.8 from three other
+workers): the fit 15.3 s CPU / 30.1 s wall, the branch point's 27.8 s CPU / 55.5 s wall (ratio 0.55 in CPU,
+0.54 in wall); RMSEs equal to 3e-8 relative (fx 150.67 N, fy 74.520 N, mz 3.1331 N*m, mx 1.9545 N*m).  Plain
+scipy stopped by its 127 s budget at 1.78 x the staged fit's cost (67.9 s CPU): >= 4.4 x in CPU.  What is left
+(process-time profile): the trust-region SVDs of SciPy's ``trf`` (~5 s CPU, 4 of them the joint polish's
+54 000 x 100 Jacobian), the variable projection's grid of the Mx stage, the statistics' condition table.
 
 ``python -m benchmarks.bench_fit_mf`` prints the dict.
 """
@@ -57,16 +64,37 @@ class _Reached(Exception):
     pass
 
 
-def _write_pair(folder: Path, sweep_seconds: float = 10.0) -> list[Path]:
+def _write_pair(folder: Path, rate: float = 50.0) -> list[Path]:
+    """The 136k-sample pair: 5 loads x 3 pressures x 3 cambers; drive/brake at 0, -3, -6 deg."""
     from tyrefit.synthetic import ttc_drivebrake as gen
 
     files = []
     for kind in ("cornering", "drivebrake"):
-        df = gen.make_record(kind, sweep_seconds=sweep_seconds if kind == "drivebrake" else 1.6 * sweep_seconds)
+        df = gen.make_record(kind, pressures=[220e3, 260e3, 300e3], cambers_deg=[0.0, 2.0, 4.0], rate=rate,
+                             sweep_seconds=9.0 if kind == "drivebrake" else 16.0)
         f = folder / f"{kind}.dat"
         f.write_text(gen.format_record(df, kind))
         files.append((f, len(df)))
     return files
+
+
+def _timed_fit(paths, fast: bool):
+    """(wall s, CPU s, load average before, result) of the in-process ``fit`` with or without the fast path."""
+    from tyrefit.fitting import mf_parts
+    from tyrefit.fitting._blas import single_threaded_blas
+    from tyrefit.fitting.mf import fit_mf, prepare_mf_data
+    from tyrefit.io.readers import read_data
+
+    load = os.getloadavg() if hasattr(os, "getloadavg") else None
+    saved = mf_parts.FAST
+    mf_parts.FAST = fast
+    try:
+        with single_threaded_blas():
+            t0, c0 = time.perf_counter(), time.process_time()
+            res = fit_mf(prepare_mf_data([read_data(f, convention="sae") for f in paths]))
+            return time.perf_counter() - t0, time.process_time() - c0, load, res
+    finally:
+        mf_parts.FAST = saved
 
 
 def _joint(data, p_fixed, names):
@@ -102,24 +130,35 @@ def _joint(data, p_fixed, names):
 
 def run() -> dict:
     from tyrefit.fitting._blas import single_threaded_blas
-    from tyrefit.fitting.mf import fit_mf, prepare_mf_data
-    from tyrefit.io.readers import read_data
 
     out, info = [], {}
     with tempfile.TemporaryDirectory() as tmp:
         files = _write_pair(Path(tmp))
         samples = sum(n for _, n in files)
         paths = [f for f, _ in files]
-
-        def staged():
-            ds = [read_data(f, convention="sae") for f in paths]
-            return fit_mf(prepare_mf_data(ds))
-
-        load_fit = os.getloadavg() if hasattr(os, "getloadavg") else None
-        with single_threaded_blas():
-            t0, c0 = time.perf_counter(), time.process_time()
-            res = staged()
-            t_fit, cpu_fit = time.perf_counter() - t0, time.process_time() - c0
+        # today's fit and the branch point's, same files, same process, one after the other
+        t_old, cpu_old, load_old, res_old = _timed_fit(paths, fast=False)
+        t_fit, cpu_fit, load_fit, res = _timed_fit(paths, fast=True)
+    rm_old = {c: s["rmse"] for c, s in res_old.stats.items()}
+    rm_new = {c: s["rmse"] for c, s in res.stats.items()}
+    drift = {c: rm_new[c] / rm_old[c] - 1.0 for c in rm_new if c in rm_old and rm_old[c] > 0}
+    out.append(measurement(
+        f"fit --model mf61, TTC-size cornering + drive/brake pair, {samples} samples (read, segment, staged fit, "
+        "statistics): coefficient mapping built once per stage, fixed parts cached, Jacobian columns by parts, "
+        "analytic Mx and Mz Jacobians", t_fit,
+        "the same fit at the branch point (tyrefit.fitting.mf_parts.FAST = False: mapping per evaluation, whole "
+        "model per forward-difference column)", t_old,
+        samples=samples, fit_cpu_seconds=cpu_fit, baseline_cpu_seconds=cpu_old,
+        ratio_cpu=cpu_fit / cpu_old if cpu_old > 0 else math.nan, load_average_before_baseline=load_old,
+        load_average_before_fit=load_fit, rmse=rm_new, baseline_rmse=rm_old, rmse_relative_change=drift,
+        goal_seconds=60.0, goal_cpu_seconds=25.0,
+        stages={k: round(f.seconds, 2) for k, f in res.stages.items()},
+        baseline_stages={k: round(f.seconds, 2) for k, f in res_old.stages.items()}))
+    info.update(samples=samples, fit_seconds=t_fit, fit_cpu_seconds=cpu_fit, branch_point_seconds=t_old,
+                branch_point_cpu_seconds=cpu_old, rmse=rm_new, branch_point_rmse=rm_old)
+    budget_env = os.environ.get(BUDGET_ENV)
+    if budget_env is not None and float(budget_env) <= 0:
+        return {"measurements": out, "info": info}
     data = res.data
     names = list(res.fitted)
     from tyrefit.models import mf61
@@ -136,7 +175,7 @@ def run() -> dict:
                   if k in names})
     residual = _joint(data, start, names)
     target = float(np.sum(residual(np.array([res.params[k] for k in names])) ** 2))
-    budget = float(os.environ.get(BUDGET_ENV) or (600.0 if full() else max(60.0, 4.0 * t_fit)))
+    budget = float(budget_env or (600.0 if full() else max(60.0, 4.0 * t_fit)))
     track = {"best": math.inf, "t_reach": None, "cpu_reach": None, "calls": 0}
     load_fd = os.getloadavg() if hasattr(os, "getloadavg") else None
     t_start, c_start = time.perf_counter(), time.process_time()

@@ -56,13 +56,20 @@ divided by ``Fz R0`` instead of ``Fz``.
 
 Jacobian
 --------
-Forward differences, one evaluation of the stage's own channel per varied
-coefficient (a stage varies 4-27 coefficients; the model is vectorised over
-all points, so a Jacobian costs k+1 array evaluations).  The step is
-``sqrt(eps) * max(|theta|, typical size)`` per coefficient.  The stages are
-what makes the fit fast: the plain alternative (all coefficients at once,
-see ``benchmarks/bench_fit_mf.py``) evaluates every channel of the whole
-model for every one of ~100 coefficients per Jacobian.
+Analytic where the channel is a closed form in the stage's coefficients: Mx
+(QSX*, PPMX1) and Mz in the aligning coefficients (QBZ*, QCZ1, QDZ*, QEZ*,
+QHZ*, PPZ*, SSZ*; MF 6.1), :mod:`tyrefit.fitting.mf_parts`.  Elsewhere forward
+differences, one evaluation of the stage's own channel per varied coefficient
+(a stage varies 4-27 coefficients; the model is vectorised over all points),
+with the step ``sqrt(eps) * max(|theta|, typical size)`` per coefficient.  The
+coefficient mapping is built once per stage and only the varied entries
+change; the parts of the model a stage does not vary (the pure-slip forces
+of the combined stages, Fy0 of the Mz0 stage) are evaluated once, and a
+column of the joint polish recomputes only the parts its coefficient enters
+(:class:`tyrefit.fitting.mf_parts.Forces`).  The stages are what makes the
+fit fast: the plain alternative (all coefficients at once, see
+``benchmarks/bench_fit_mf.py``) evaluates every channel of the whole model
+for every one of ~100 coefficients per Jacobian.
 
 Initial values
 --------------
@@ -165,6 +172,7 @@ from ..errors import DataError, FitError
 from ..tyres.contract import ALIGN_DEG, G_TOL, slip_grid
 from ..models import mf61
 from . import initial as ini
+from . import mf_parts
 from ._blas import single_threaded_blas
 from .core import Parameters, covariance, solve
 from .core import objective as core_objective
@@ -923,8 +931,23 @@ class _Eval:
         v = pts["speed"].to_numpy(float)
         self.speed = np.where(np.isfinite(v), v, nominal.get("LONGVL", np.nan)) if np.isfinite(v).any() else None
 
-    def __call__(self, p: Mapping[str, float]) -> np.ndarray:
-        kw = {"version": self.version}
+    def __call__(self, p: Mapping[str, float], changed: Sequence[str] | None = None) -> np.ndarray:
+        """The channel at ``p``; ``changed``: the only names in which ``p`` differs between calls (the stage's
+        varied coefficients): the coefficient mapping and the fixed parts are then built once
+        (:mod:`tyrefit.fitting.mf_parts`)."""
+        if mf_parts.FAST and self.mf is mf61:
+            if self._forces is None:  # the mapping of the first call; later calls replace entries
+                self._forces = mf_parts.Forces(self.version, self.fz, self.kappa, self.alpha, self.gamma,
+                                               self.pressure, self.speed)
+                self._forces.bind(p)
+                self._p0 = dict(p)
+                changed = () if changed is None else changed
+            elif changed is None:  # a caller's own mapping (the variable projection): what differs from the first
+                changed = self._diff(p)
+            if changed is not None:
+                c, b = self._forces.coefficients([(k, p[k]) for k in changed])
+                return self._fast(c, b, changed)
+        kw, mf = {"version": self.version}, self.mf
         if self.pure == "alpha" and self.channel == "fx":  # pure slip: the cheaper pure-slip functions
             return self.mf.fx0(p, self.fz, self.kappa, self.gamma, self.pressure, self.speed, **kw)
         if self.pure == "kappa" and self.channel == "fy":
@@ -932,17 +955,83 @@ class _Eval:
         if self.pure == "kappa" and self.channel == "mz" and self.version != "5.2":
             return self.mf.mz0(p, self.fz, self.alpha, self.gamma, self.pressure, self.speed, **kw)
         if self._cache is None:
-            self._cache = self._parts(p)
+            self._cache = self._parts(*mf._prepare(p, self.version, self.fz, self.kappa, self.alpha, self.gamma,
+                                                   self.pressure, self.speed)) if self._stage_functions() else {}
         if self._cache:
-            return self._partial(p)
+            return self._partial(mf.coefficients(p), self._cache["b"])
         out = self.mf.forces(p, self.fz, slip_ratio=self.kappa, slip_angle=self.alpha, camber=self.gamma,
                              pressure=self.pressure, speed=self.speed, **kw)
         return np.asarray(out[self.channel], float)
 
+    # -- the fast path: the mapping of the first call, the varied entries replaced
+    _forces = None
+    _p0: dict = {}
+    _pure_mz = None
+
+    def _diff(self, p) -> list[str] | None:
+        """The names in which ``p`` differs from the bound mapping (None when one is not a coefficient)."""
+        p0, c0 = self._p0, self._forces.c0
+        if p.keys() != p0.keys():
+            return None
+        try:  # the items' set difference, in C (values of a fit's mapping are floats)
+            out = [k for k, _ in p.items() - p0.items()]
+        except TypeError:  # an unhashable value (an array of candidates)
+            out = [k for k, v in p.items() if p0[k] is not v and p0[k] != v]
+        return out if all(k in c0 for k in out) else None
+
+    def _fast(self, c, b, changed) -> np.ndarray:
+        mf = self.mf
+        if self.pure == "alpha" and self.channel == "fx":
+            return np.asarray(mf._fx0_parts(c, b)[0])
+        if self.pure == "kappa" and self.channel == "fy":
+            return np.asarray(mf._fy0_parts(c, b)["fy0"])
+        if self.pure == "kappa" and self.channel == "mz" and self.version != "5.2":
+            # mf61.mz0 with Fy0 (and its zero-camber value) kept while only Mz coefficients change
+            keep = all(mf_parts.group(k) in ("mz0", "ssz") for k in changed)
+            if self._pure_mz is None or not keep:
+                fyp = mf._fy0_parts(c, b)
+                fy_g0 = fyp["fy0"] if not np.any(b.gstar) else mf._fy0_parts(c, b, zero_camber=True)["fy0"]
+                if keep:
+                    self._pure_mz = (fyp, fy_g0)
+            else:
+                fyp, fy_g0 = self._pure_mz
+            out, _, _ = mf._mz(c, b, mf._mz_parts(c, b, fyp), fy_g0, 0.0, 0.0, fyp["fy0"])
+            return np.asarray(out)
+        if self._cache is None:
+            self._cache = self._parts(c, b)
+        return self._partial(c, b)
+
+    def jacobian(self, p, changed) -> dict[str, np.ndarray]:
+        """Analytic d(channel)/d(name) at ``p`` for the names of ``changed`` where the model has one (MF 6.1 Mx
+        and Mz in their own coefficients, :mod:`tyrefit.fitting.mf_parts`): {name: column}; {} elsewhere."""
+        if not (mf_parts.FAST and self.mf is mf61 and self.channel in ("mx", "mz") and self.version != "5.2"
+                and self.pure in (None, "kappa")):
+            return {}
+        if self.pure == "kappa" and self.channel == "mx":
+            return {}
+        if self._forces is None or (self.pure is None and self._cache is None) \
+                or (self.pure == "kappa" and self._pure_mz is None):
+            self(p, changed)  # binds the mapping and the fixed parts
+        c, b = self._forces.coefficients([(k, p[k]) for k in changed])
+        if self.channel == "mx":
+            return mf_parts.mx_jacobian(c, b, self._cache["fy"], list(changed))
+        if self.pure == "kappa":  # mf61.mz0: kappa = 0, Fx = 0, Fy' = Fy0 at zero camber
+            if self._pure_mz is None:
+                return {}
+            fyp, fy_g0 = self._pure_mz
+            return mf_parts.mz_jacobian(c, b, fyp, fy_g0, 0.0, 0.0, fyp["fy0"], list(changed))
+        k = self._cache
+        return mf_parts.mz_jacobian(c, b, k["fyp"], k["fy_prime"], k["kxk"], k["fx"], k["fy"], list(changed))
+
     # -- the later stages: only the part that depends on the stage's own coefficients is re-evaluated
     _cache = None
 
-    def _parts(self, p) -> dict:
+    def _stage_functions(self) -> bool:
+        need = ("_prepare", "_fx0_parts", "_fy0_parts", "_gxa", "_gyk", "_mz_parts", "_mz", "_mx", "_my",
+                "coefficients")
+        return all(hasattr(self.mf, n) for n in need)
+
+    def _parts(self, c, b) -> dict:
         """Everything that the stage's coefficients do not change, from the model's own stage functions.
 
         The combined-slip and moment stages vary only G_x_alpha, G_y_kappa/SV_y_kappa, s (SSZ), Mx or My;
@@ -950,11 +1039,6 @@ class _Eval:
         evaluated once.  Returns {} (use :func:`forces`) when the model module has no stage functions.
         """
         mf = self.mf
-        need = ("_prepare", "_fx0_parts", "_fy0_parts", "_gxa", "_gyk", "_mz_parts", "_mz", "_mx", "_my",
-                "coefficients")
-        if not all(hasattr(mf, n) for n in need):
-            return {}
-        c, b = mf._prepare(p, self.version, self.fz, self.kappa, self.alpha, self.gamma, self.pressure, self.speed)
         fx0, _, kxk = mf._fx0_parts(c, b)
         fyp = mf._fy0_parts(c, b)
         fx = mf._gxa(c, b) * fx0
@@ -968,9 +1052,8 @@ class _Eval:
         return {"b": b, "fx0": fx0, "kxk": kxk, "fyp": fyp, "fx": fx, "fy": fy, "fy_prime": fy_prime,
                 "mzp": mf._mz_parts(c, b, fyp)}
 
-    def _partial(self, p) -> np.ndarray:
+    def _partial(self, c, b) -> np.ndarray:
         mf, k = self.mf, self._cache
-        c, b = mf.coefficients(p), k["b"]
         if self.channel == "fx":
             y = mf._gxa(c, b) * k["fx0"]                                        # (4.E50)
         elif self.channel == "fy":
@@ -1068,12 +1151,14 @@ class _Problem:
         """
         p = self.params(theta)
         self.nfev += 1
-        y = self.eval(p)
+        y = self.eval(p, changed=self.vary)
         r = self.inv * (y - self.y)
         bad = ~np.isfinite(r)
         if bad.any():
             r = np.where(bad, 1e3 * np.max(self.w) / self.mult, r)
-        return np.concatenate([r, self.penalties(p)])
+        out = np.concatenate([r, self.penalties(p)])
+        self._last = (np.array(theta, float), out.copy())  # the solver asks for the Jacobian where it evaluated last
+        return out
 
     def row_weights(self, n_rows: int) -> np.ndarray:
         """The core's weights of every row: 1/n_s for the data, 1 for the penalties."""
@@ -1086,13 +1171,23 @@ class _Problem:
         return r
 
     def jac(self, theta, r0=None):
-        """Forward-difference Jacobian of :meth:`mu_residual` (steps of each coefficient's typical size)."""
+        """Jacobian of :meth:`mu_residual`: analytic columns where the model has them (:meth:`_Eval.jacobian`),
+        forward differences for the others (steps of each coefficient's typical size)."""
         theta = np.asarray(theta, float)
+        last = getattr(self, "_last", None)
+        if r0 is None and mf_parts.FAST and last is not None and np.array_equal(last[0], theta):
+            r0 = last[1].copy()
         if r0 is None:
             r0 = self.mu_residual(theta)
         J = np.empty((r0.size, theta.size))
         eps = math.sqrt(np.finfo(float).eps)
+        # analytic columns (Mx, Mz in their own coefficients); those stages have no penalty rows
+        cols = self.eval.jacobian(self.params(theta), self.vary) if r0.size == self.y.size else {}
         for j in range(theta.size):
+            if self.vary[j] in cols:  # rows the residual replaced (non-finite model) do not move
+                dy = self.inv * cols[self.vary[j]]
+                J[:, j] = np.where(np.isfinite(dy), dy, 0.0)
+                continue
             h = eps * max(abs(theta[j]), _typical_step(self.vary[j]))
             t = theta.copy()
             t[j] = t[j] + h if t[j] + h <= self.ub[j] else t[j] - h
@@ -1721,6 +1816,8 @@ _JOINT_STAGES = ("Fx0", "Fy0", "Mz0", "Fx", "Fy", "Mz")
 _JOINT_CHANNELS = (("fx", ("longitudinal", "combined")), ("fy", ("lateral", "combined", "longitudinal")),
                    ("mz", ("lateral", "longitudinal", "combined")))
 _JOINT_NFEV = 8
+#: the parts of the model (mf_parts.group) whose coefficients enter each stage's constraint factors (_factors)
+_PENALTY_GROUPS = {"Fx0": ("fx0", "basic"), "Fy0": ("fy0", "basic"), "Fx": ("gxa", "basic"), "Fy": ("gyk", "basic")}
 #: points of the joint polish in all (every k-th point of each sweep; between 60 and 250 per sweep)
 _JOINT_POINTS = 20000
 
@@ -1775,16 +1872,80 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
     kw = {"version": version}
     nfev = [0]
 
+    fast = mf_parts.FAST and mf is mf61
+    if fast:  # Fx, Fy, Mz by parts: the mapping built once, a Jacobian column recomputes what its coefficient moves
+        model = mf_parts.Forces(version, fz, kap, alp, gam, pr, sp)
+        model.bind(p)
+        groups = [mf_parts.group(k, model.v52) for k in vary]
+    last: list = [None, None, None]  # theta, residual, state of the last evaluation
+
     def residual(th):
         q = dict(p, **dict(zip(vary, th.tolist())))
         nfev[0] += 1
-        out = mf.forces(q, fz, slip_ratio=kap, slip_angle=alp, camber=gam, pressure=pr, speed=sp, **kw)
+        if fast:
+            c, b = model.coefficients(zip(vary, th.tolist()))
+            st = model.state(c, b)
+            out = {ch: model.out(st, ch) for ch, *_ in blocks}
+        else:
+            out = mf.forces(q, fz, slip_ratio=kap, slip_angle=alp, camber=gam, pressure=pr, speed=sp, **kw)
         parts = [w * (np.asarray(out[c], float)[m] - y) for c, m, y, w in blocks]
         parts += [pb.penalties(q) for pb in pens]
         r = np.concatenate(parts)
-        return np.where(np.isfinite(r), r, 1e3)
+        r = np.where(np.isfinite(r), r, 1e3)
+        if fast:
+            last[:] = [np.array(th, float), r.copy(), (c, b, st)]
+        return r
+
+    def jac_fast(th):
+        if last[0] is None or not np.array_equal(last[0], th):
+            residual(th)
+        rr, (c, b, st) = last[1], last[2]
+        J = np.zeros((rr.size, th.size))
+        eps = math.sqrt(np.finfo(float).eps)
+        pen0 = [pb.penalties(dict(p, **dict(zip(vary, th.tolist())))) for pb in pens]
+        nfev[0] += th.size  # one (partial) evaluation per column, as the forward differences counted
+        # the aligning coefficients (trail, residual torque, s) move Mz alone: analytic columns (mf_parts.mz_jacobian)
+        mz_cols = mf_parts.mz_jacobian(c, b, st["fyp"], st["fy_prime"], st["kxk"], st["fx"], st["fy"],
+                                       [k for k, g in zip(vary, groups) if g in ("mz0", "ssz")])
+        for j in range(th.size):
+            if vary[j] in mz_cols:
+                i0 = 0
+                for ch, m, y, w in blocks:
+                    n = int(m.sum())
+                    if ch == "mz":
+                        col = w * mz_cols[vary[j]][m]
+                        J[i0:i0 + n, j] = np.where(np.isfinite(col), col, 0.0)
+                    i0 += n
+                continue  # the penalties (Fx0, Fy0, Fx, Fy factors) do not hold aligning coefficients
+            h = eps * max(abs(th[j]), _typical_step(vary[j]))
+            t = th[j] + h if th[j] + h <= ub[j] else th[j] - h
+            cj = dict(c)
+            cj[vary[j]] = float(t)
+            bj = model.basic(cj) if groups[j] == "basic" else b
+            sj = model.update(st, cj, bj, groups[j])
+            touched = mf_parts.TOUCHES[groups[j]]
+            i0 = 0
+            for ch, m, y, w in blocks:
+                n = int(m.sum())
+                if ch in touched:
+                    rj = w * (model.out(sj, ch)[m] - y)
+                    J[i0:i0 + n, j] = (np.where(np.isfinite(rj), rj, 1e3) - rr[i0:i0 + n]) / (t - th[j])
+                i0 += n
+            qj = dict(p, **dict(zip(vary, th.tolist())))
+            qj[vary[j]] = float(t)
+            for pb, r0 in zip(pens, pen0):
+                if groups[j] not in _PENALTY_GROUPS[pb.stage.name]:  # a factor the coefficient does not enter
+                    i0 += r0.size
+                    continue
+                rj = pb.penalties(qj)
+                J[i0:i0 + rj.size, j] = (np.where(np.isfinite(rj), rj, 1e3) - np.where(np.isfinite(r0), r0, 1e3)) \
+                    / (t - th[j])
+                i0 += rj.size
+        return J
 
     def jac(th):
+        if fast:
+            return jac_fast(th)
         rr = residual(th)
         J = np.empty((rr.size, th.size))
         eps = math.sqrt(np.finfo(float).eps)
