@@ -277,9 +277,10 @@ def _check_json_flags(args) -> None:
         return
     need = []
     if not getattr(args, "size", None):
-        need.append("--size (width, mass and inertia)")
+        need.append("--size (Width, Mass, Inertia)")
     if getattr(args, "rated_load", None) is None and not getattr(args, "vertical", None):
-        need.append("--rated-load NEWTONS or --vertical VERTICAL.csv (vertical and lateral stiffness, damping)")
+        need.append("--rated-load NEWTONS or --vertical VERTICAL.csv (Vertical Stiffness, Lateral Stiffness, "
+                    "Vertical Damping)")
     if need:
         raise DataError(f"--json {args.json}: Chrono's PAC89 JSON needs {' and '.join(need)}; nothing was fitted")
 

@@ -198,20 +198,8 @@ class FitResultMF:
         return float(s["rmse"]) if s else float("nan")
 
     def ranges(self) -> dict[str, tuple[float, float]]:
-        """Fitted operating ranges (SI): fz, slip_ratio, slip_angle, camber, pressure."""
-        df = self.data.df
-        out = {"fz": (float(df["fz"].min()), float(df["fz"].max())),
-               "camber": (float(df["camber"].min()), float(df["camber"].max()))}
-        lon = df[df["kind"] != "lateral"]
-        lat = df[df["kind"] != "longitudinal"]
-        if len(lon):
-            out["slip_ratio"] = (float(lon["slip_ratio"].min()), float(lon["slip_ratio"].max()))
-        if len(lat):
-            out["slip_angle"] = (float(lat["slip_angle"].min()), float(lat["slip_angle"].max()))
-        pr = df["pressure"].to_numpy(float)
-        if np.isfinite(pr).any():
-            out["pressure"] = (float(np.nanmin(pr)), float(np.nanmax(pr)))
-        return out
+        """Fitted operating ranges (SI): fz, slip_ratio, slip_angle, camber, pressure (:meth:`MFData.envelope`)."""
+        return self.data.envelope()
 
     def header(self) -> list[str]:
         lines = [f"tyrefit {__version__}: Magic Formula {self.version} fit ({self.cost} cost on mu, staged "
