@@ -1144,9 +1144,14 @@ _BOUNDS = {"PCX1": (0.3, 3.0), "PCY1": (0.3, 3.0), "QCZ1": (0.3, 5.0), "RCX1": (
            # cancelling; 3 loads x 2 cambers of MFeval's set): bounded at ~10-20 x the published magnitudes (MFeval's
            # MF 6.1 example QSX3 1.62, QSX4 11.4, QSX8 4.5, |QSX9| 0.033; QSX2 -9.9); at +-50 for QSX4 the fit of
            # that set's own Mx (2 loads, cambers 0/3 deg) ended on the bound at 1.27 x the noise floor
-           "QSX2": (-200.0, 200.0), "QSX3": (-50.0, 50.0), "QSX4": (-200.0, 200.0), "QSX8": (-50.0, 50.0),
-           "QSX9": (-5.0, 5.0), "QSX5": (-10.0, 10.0), "QSX6": (-50.0, 50.0), "QSX10": (-20.0, 20.0),
-           "QSX11": (-50.0, 50.0), "QSX12": (-20.0, 20.0), "QSX13": (-20.0, 20.0), "QSX14": (-20.0, 20.0)}
+           # The camber terms QSX2 g and QSX10 atan(QSX11 Fz/Fz0) g are left wide: with two cambers the data take
+           # a saturated atan (a load-independent camber term, QSX2 178 against QSX10 114, QSX11 892 on the bundled
+           # TTC-style pair: 1.82 N*m; bounded at +-200/+-20/+-50: 5.1 N*m), benign since both are linear in g;
+           # a term that really runs away is caught by _runaway
+           "QSX3": (-50.0, 50.0), "QSX4": (-200.0, 200.0), "QSX8": (-50.0, 50.0),
+           "QSX9": (-5.0, 5.0), "QSX5": (-10.0, 10.0), "QSX6": (-50.0, 50.0), "QSX7": (-10.0, 10.0),
+           "QSX2": (-1e3, 1e3), "QSX10": (-1e3, 1e3), "QSX11": (-1e4, 1e4),
+           "QSX12": (-20.0, 20.0), "QSX13": (-20.0, 20.0), "QSX14": (-20.0, 20.0)}
 #: a coefficient at this bound is the data's own answer, said in the notes, not a warning (_bound_warnings)
 _QUIET_BOUNDS = {("LMUV", "lower"), ("RVY4", "lower"), ("RVY4", "upper")}
 
@@ -1670,7 +1675,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     prob = _Problem(stage, pts_p, prob_s.params(th), want, nominal, version, "l2", scale, pkysign, mu_cap=cap, env=data.envelope()) \
         if len(pts_s) < len(pts_p) else prob_s
     n_before = prob.nfev
-    th = prob.solve(th, tol=1e-10, max_nfev=_POLISH_NFEV // 4 if secondary else _POLISH_NFEV)
+    th = prob.solve(th, tol=1e-10, max_nfev=_SECONDARY_NFEV if secondary else _POLISH_NFEV)
     nfev += prob.nfev - n_before
     if cost == "l1":  # Komana et al. Eq. 5: the core's pseudo-Huber continuation from the l2 solution
         pl1 = _Problem(stage, pts_p, prob.params(th), want, nominal, version, "l1", scale, pkysign, mu_cap=cap, env=data.envelope())
@@ -2055,7 +2060,11 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
 #: sweep, which add noise averaging but no information on the curve; the statistics use every point
 _START_POINTS = 60
 _POLISH_POINTS = 250
-_POLISH_NFEV = 400
+#: evaluations of a stage's polish; a force stage that has not converged by then crawls along a flat
+#: direction (the combined Fy stage held to G <= 1 on data whose generating tyre has G_yk 1.03: 400 iterations,
+#: 6.7 s of the FSAE pair's 40 s, for the same RMSE to 0.1 %); the moments' variable-projection start needs more
+_POLISH_NFEV = 120
+_SECONDARY_NFEV = 100
 
 
 def _thin(pts: pd.DataFrame, per_sweep: int) -> pd.DataFrame:

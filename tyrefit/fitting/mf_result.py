@@ -166,7 +166,9 @@ class FitResultMF:
                         "unit": _UNIT[c], "peak": float(np.max(np.abs(y[ok]))),
                         "fitted": any(f.channel == c and f.varied for f in fits.values())}
             if df["source"].nunique() > 1:  # each record judged against its own noise (rigs differ per channel)
-                stats[c]["by_record"] = _by_record(df[np.isfinite(df[c])], c)
+                # Fx on the sweeps it is fitted to (a cornering sweep's Fx is not the Fx model's: kappa = 0)
+                on = np.isfinite(df[c]) & ((df["kind"] != "lateral") if c == "fx" else True)
+                stats[c]["by_record"] = _by_record(df[on], c)
         held: dict[str, str] = {}
         fitted: list[str] = []
         for f in fits.values():

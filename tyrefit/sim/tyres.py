@@ -107,6 +107,11 @@ class AxleTyre:
         if not (np.all(np.isfinite(self.fx_table)) and np.all(np.isfinite(self.fy_table))):
             raise ModelError(f"tyre {self.tyre.name!r} gives non-finite forces at {fz:.0f} N; the simulation "
                              "cannot use it")
+        i, j = int(np.argmax(self.fx_table)), int(np.argmin(self.fx_table))
+        if not (i > j and self.fx_table[i] > 0 > self.fx_table[j]):
+            raise ModelError(f"tyre {self.tyre.name!r} gives no usable Fx curve at the wheel load {fz:.0f} N "
+                             f"(no braking peak below a driving peak){_outside(self.tyre, fz)}; the simulation "
+                             "cannot use it")
         self.dfx_table = np.gradient(self.fx_table, self.slip_ratio_grid)
         self.dfy_table = np.gradient(self.fy_table, self.slip_angle_grid)
         i = int(np.argmax(self.fx_table))
@@ -184,6 +189,17 @@ class AxleTyre:
 
 
 # ------------------------------------------------------------------------------ files
+
+def _outside(tyre, fz: float) -> str:
+    """', N x outside its declared load range lo-hi N' when ``fz`` is outside it, else ''."""
+    try:
+        lo, hi = tyre.validity()["fz"]
+    except (AttributeError, KeyError, TypeError):  # pragma: no cover - every tyrefit tyre has validity()
+        return ""
+    if lo <= fz <= hi:
+        return ""
+    return f", {fz / hi if fz > hi else lo / fz:.1f} x outside its declared load range {lo:.0f}-{hi:.0f} N"
+
 
 def load_tyre(path: str | os.PathLike, allow_unphysical: bool = False) -> Tyre:
     """Read any tyre file for the simulation (PAC89, MF 5.2, MF 6.1/6.2, Chrono JSON).
