@@ -64,9 +64,21 @@ class _Reached(Exception):
     pass
 
 
+#: environment variable: 'field' fits tyrefit.synthetic.ttc_field's FSAE pair (136k samples, physics beyond MF 6.1,
+#: sweeps short of the Fx peak) instead of the published MF 6.1 tyre's records
+PAIR_ENV = "TYREFIT_BENCH_PAIR"
+
+
 def _write_pair(folder: Path, rate: float = 50.0) -> list[Path]:
     """The 136k-sample pair: 5 loads x 3 pressures x 3 cambers; drive/brake at 0, -3, -6 deg."""
     from tyrefit.synthetic import ttc_drivebrake as gen
+
+    if os.environ.get(PAIR_ENV) == "field":
+        from tyrefit.synthetic import ttc_field
+
+        c, d = ttc_field.make_pair(scale="full")
+        paths = ttc_field.write_pair(folder, scale="full")
+        return [(paths[0], len(c)), (paths[1], len(d))]
 
     files = []
     for kind in ("cornering", "drivebrake"):

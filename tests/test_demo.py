@@ -51,7 +51,15 @@ def test_every_demo_step_has_a_pipeline():
 
 @pytest.mark.slow
 def test_full_demo_on_bundled_data(tmp_path):
+    from tyrefit.io.tir import read_tyre
+    from tyrefit.tyres.contract import check_tyre
+
     records, index = run_demo(tmp_path / "demo")
     assert all(r["status"] == "ok" for r in records), [r["headline"] for r in records]
     for r in records:
         assert (tmp_path / "demo" / r["link"]).is_file()
+    # every tyre the demo writes keeps the physical-validity contract over the range it declares
+    tyres = sorted((tmp_path / "demo").rglob("*.tir"))
+    assert tyres
+    for f in tyres:
+        assert check_tyre(read_tyre(f)) == [], f

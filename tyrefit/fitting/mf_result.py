@@ -345,10 +345,17 @@ class FitResultMF:
     # ------------------------------------------------------------------ report
     def report_blocks(self, r) -> None:
         r.h2("Fit quality per channel")
-        r.table([{"channel": c.upper(), "RMSE": s["rmse"], "unit": s["unit"], "R²": s["r2"],
-                  "noise floor": s["noise_floor"], "RMSE/noise": s["rmse"] / s["noise_floor"]
-                  if s["noise_floor"] > 0 else float("nan"), "points": s["n"], "fitted": s["fitted"]}
-                 for c, s in self.stats.items()])
+        rows = []
+        for c, s in self.stats.items():
+            rows.append({"channel": c.upper(), "record": "all", "RMSE": s["rmse"], "unit": s["unit"], "R²": s["r2"],
+                         "noise floor": s["noise_floor"], "RMSE/noise": s["rmse"] / s["noise_floor"]
+                         if s["noise_floor"] > 0 else float("nan"), "points": s["n"], "fitted": s["fitted"]})
+            for src, rs in (s.get("by_record") or {}).items():  # each record against its own noise
+                rows.append({"channel": c.upper(), "record": src, "RMSE": rs["rmse"], "unit": s["unit"],
+                             "R²": float("nan"), "noise floor": rs["noise_floor"],
+                             "RMSE/noise": rs["rmse"] / rs["noise_floor"] if rs["noise_floor"] > 0 else float("nan"),
+                             "points": rs["n"], "fitted": s["fitted"]})
+        r.table(rows)
         r.h2("Stages")
         r.table([{"stage": n, "channel": f.channel.upper(), "points": f.n_points, "sweeps": f.n_sweeps,
                   "varied": ", ".join(f.varied), "evaluations": f.nfev, "seconds": f.seconds}
