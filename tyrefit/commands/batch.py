@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
-from ..fitting.batch import batch_fit
+from ..fitting.batch import SchedulerWarning, batch_fit, scheduler_address
 
 #: failures listed on stderr before "... and N more"
 _MAX_LISTED = 20
@@ -25,9 +26,20 @@ def run(args: argparse.Namespace) -> int:
     """Run ``tyrefit batch <command>``; return the exit code."""
     if args.batch_command != "fit":  # pragma: no cover - argparse allows only 'fit'
         raise SystemExit(2)
-    res = batch_fit(args.source, args.out, workers=args.workers, scheduler=args.scheduler, force=args.force,
-                    progress=True, cost=getattr(args, "cost", "l2"),
-                    convention=getattr(args, "convention", "iso"), model=getattr(args, "model", "pac89") or "pac89")
+    scheduler = args.scheduler if scheduler_address(args.scheduler) is not None else None  # '' runs locally
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", SchedulerWarning)
+        try:
+            res = batch_fit(args.source, args.out, workers=args.workers, scheduler=scheduler, force=args.force,
+                            progress=True, cost=getattr(args, "cost", "l2"),
+                            convention=getattr(args, "convention", "iso"),
+                            model=getattr(args, "model", "pac89") or "pac89")
+        finally:
+            for w in caught:
+                if issubclass(w.category, SchedulerWarning):
+                    print(f"tyrefit batch: warning: {w.message}", file=sys.stderr)
+                else:
+                    warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     print(f"{len(res.records)} data files: {res.n_ok} fitted, {res.n_skipped} up to date, {res.n_failed} failed "
           f"in {res.elapsed:.1f} s ({res.backend}); summary {res.summary_csv}, report {res.report}")
     failed = res.failed

@@ -520,6 +520,86 @@ def _lost(task: tuple, exc: BaseException) -> dict[str, Any]:
             "error": f"worker lost: {exc.__class__.__name__}: {_one_line(exc)}"}
 
 
+#: seconds to wait for a scheduler to answer (a TCP connect, then Dask's handshake)
+CONNECT_TIMEOUT_S = 5.0
+class SchedulerWarning(UserWarning):
+    """A ``--scheduler`` that is neither on this machine nor reached over TLS."""
+
+
+#: address schemes a batch can use: a scheduler reached over the network, plain or TLS
+_SCHEMES = ("tcp", "tls")
+
+
+def scheduler_address(scheduler) -> tuple[str, str, int] | None:
+    """Check a ``--scheduler`` address before anything connects; ``None`` (or ``''``) means run locally.
+
+    Returns ``(scheme, host, port)`` for ``tcp://host:port``, ``tls://host:port`` or ``host:port``
+    (tcp; the port defaults to Dask's 8786).  Any other scheme (``ucx://``, ``inproc://``,
+    ``file://``, ...), a bracket left open, a port that is not a number from 1 to 65535 is a
+    one-line :class:`DataError`.
+    """
+    if scheduler is None:
+        return None
+    text = str(scheduler).strip()
+    if not text:
+        return None
+    accepted = "give it as tcp://host:8786 or tls://host:8786"
+    scheme, sep, rest = text.partition("://")
+    if not sep:
+        scheme, rest = "tcp", text
+    scheme = scheme.lower()
+    if scheme not in _SCHEMES:
+        why = {"inproc": "in-process addresses reach only a scheduler inside the same Python process",
+               "ucx": "the UCX transport is not supported by tyrefit batch",
+               "ws": "websocket transports are not supported by tyrefit batch",
+               "wss": "websocket transports are not supported by tyrefit batch"}.get(scheme, "unknown scheme")
+        raise DataError(f"--scheduler {text!r} (Dask scheduler address): {why}; {accepted}")
+    if "/" in rest or not rest:
+        raise DataError(f"--scheduler {text!r} (Dask scheduler address): not a host:port address; {accepted}")
+    if rest.startswith("["):
+        host, close, tail = rest[1:].partition("]")
+        if not close or not host:
+            raise DataError(f"--scheduler {text!r} (Dask scheduler address): an IPv6 address needs its closing bracket, e.g. tcp://[::1]:8786")
+        if tail and not tail.startswith(":"):
+            raise DataError(f"--scheduler {text!r} (Dask scheduler address): not a host:port address; {accepted}")
+        port_text = tail[1:] if tail else ""
+    else:
+        host, _, port_text = rest.rpartition(":") if ":" in rest else (rest, "", "")
+        if ":" in host:
+            raise DataError(f"--scheduler {text!r} (Dask scheduler address): write an IPv6 address in brackets, e.g. tcp://[::1]:8786")
+    if not host:
+        raise DataError(f"--scheduler {text!r} (Dask scheduler address): no host; {accepted}")
+    if port_text == "":
+        port = 8786
+    elif not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
+        raise DataError(f"--scheduler {text!r} (Dask scheduler address): port {port_text!r} is not a number from 1 to 65535; {accepted}")
+    else:
+        port = int(port_text)
+    return scheme, host, port
+
+
+def is_loopback(host: str) -> bool:
+    """Is ``host`` this machine (``localhost``, 127.0.0.0/8, ``::1``)?  Names are not resolved."""
+    import ipaddress
+
+    if host.lower() in ("localhost", "localhost.localdomain", "ip6-localhost"):
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def scheduler_warning(address: tuple[str, str, int]) -> str | None:
+    """The warning for a scheduler that is neither on this machine nor reached over TLS, else ``None``."""
+    scheme, host, port = address
+    if scheme == "tls" or is_loopback(host):
+        return None
+    return (f"--scheduler {scheme}://{host}:{port} is not on this machine and not TLS: the fits are sent "
+            "there as pickled Python and the answers unpickled here, so whoever controls that address or "
+            "the network between runs code in tyrefit; use tls:// with Dask's security options (README, batch)")
+
+
 def _dask_client(scheduler):
     try:
         from distributed import Client
@@ -528,11 +608,54 @@ def _dask_client(scheduler):
                         "'pip install tyrefit[dask]' (or dask[distributed])") from None
     if isinstance(scheduler, Client):
         return scheduler, False
-    try:
-        return Client(str(scheduler), timeout="10s", set_as_default=False), True
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise DataError(f"cannot connect to the Dask scheduler {scheduler!r} ({_one_line(exc)}); give its "
-                        "address as tcp://host:8786") from None
+    import socket
+    import warnings
+
+    from distributed.security import Security
+
+    scheme, host, port = scheduler_address(scheduler)
+    address = f"{scheme}://{f'[{host}]' if ':' in host else host}:{port}"
+    security = Security()  # Dask's configuration: distributed.comm.tls.* (files or DASK_* variables)
+    if scheme == "tls" and security.get_connection_args("client").get("ssl_context") is None:
+        raise DataError(f"--scheduler {address}: TLS needs Dask's security options (a CA file and this "
+                        "client's certificate and key: distributed.comm.tls.ca-file, .client.cert, .client.key "
+                        "in Dask's configuration or DASK_DISTRIBUTED__COMM__TLS__* variables); see the README")
+    warning = scheduler_warning((scheme, host, port))
+    if warning:
+        warnings.warn(SchedulerWarning(warning), stacklevel=3)
+    try:  # a plain TCP connect first: a refused or silent address is one line in seconds
+        socket.create_connection((host, port), timeout=CONNECT_TIMEOUT_S).close()
+    except OSError as exc:
+        raise DataError(f"cannot connect to the Dask scheduler {address} ({_one_line(exc) or 'timed out'})") from None
+
+    class _Client(Client):
+        def __del__(self):  # a client that failed to start: no 20 s close, no 'Exception ignored' traceback
+            try:
+                if getattr(self, "status", "closed") not in ("closed", "closing", "newly-created"):
+                    self.close(timeout=1)
+            except Exception:  # noqa: BLE001
+                pass
+
+    import threading
+
+    box: dict = {}
+
+    def start():  # in a thread: Dask's handshake has no deadline of its own (a silent peer holds it)
+        try:
+            box["client"] = _Client(address, timeout=f"{CONNECT_TIMEOUT_S:g}s", set_as_default=False,
+                                    security=security)
+        except BaseException as exc:  # noqa: BLE001 - TLS handshake, not a Dask scheduler, timeout, ...
+            box["error"] = exc
+
+    th = threading.Thread(target=start, name="tyrefit-dask-connect", daemon=True)
+    th.start()
+    th.join(CONNECT_TIMEOUT_S + 2)
+    if "client" in box:
+        return box["client"], True
+    exc = box.get("error")
+    why = f"{exc.__class__.__name__}: {_one_line(exc)}" if exc is not None else \
+        f"no Dask answer within {CONNECT_TIMEOUT_S + 2:g} s; is it a Dask scheduler?"
+    raise DataError(f"cannot connect to the Dask scheduler {address} ({why})")
 
 
 def _run_dask(tasks, client, progress: bool):
@@ -578,7 +701,9 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
         local worker processes; default the CPUs available; 1 runs in this
         process.  Ignored with ``scheduler``.
     scheduler : str or distributed.Client, optional
-        Dask scheduler address (``tcp://host:8786``) or a connected client.
+        Dask scheduler address (``tcp://host:8786``, ``tls://host:8786`` with Dask's TLS security
+        options configured) or a connected client; ``None`` or ``''`` runs locally.  An address
+        neither on this machine nor TLS gives a :class:`SchedulerWarning` (pickled work goes there).
     force : bool
         refit tyres whose ``.tir`` is up to date, and replace ``.tir`` files
         the batch did not write.
@@ -610,6 +735,8 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
         raise DataError(f"unknown sign convention {convention!r}; accepted: 'iso', 'sae'")
     if workers is not None and int(workers) < 1:
         raise DataError(f"--workers {workers}: need at least 1 worker process")
+    if scheduler is not None and isinstance(scheduler, str):
+        scheduler_address(scheduler)  # a bad address is refused before any folder is made
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise DataError(f"{out}: exists and is not a folder; --out needs a folder for the .tir files")
@@ -620,16 +747,22 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
                 raise OutputExistsError(f"{out / n}: exists and was not written by 'tyrefit batch fit' (no "
                                         f"{_STATUS_DIR}/ folder); pass --force to replace it, or choose another --out")
     t0 = time.perf_counter()
-    out.mkdir(parents=True, exist_ok=True)
-    (out / _STATUS_DIR).mkdir(exist_ok=True)
-    # every option that changes the fitted tyre: a change refits (the fingerprint beside each .tir)
-    options = {"cost": cost, "convention": convention, **({"model": model} if model != "pac89" else {})}
-    tasks, records = _plan(files, out, force, options)
+    client, own_client = (None, False)
+    if scheduler is not None and (not isinstance(scheduler, str) or scheduler_address(scheduler) is not None):
+        client, own_client = _dask_client(scheduler)  # before any folder is made: a bad address leaves nothing
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        (out / _STATUS_DIR).mkdir(exist_ok=True)
+        # every option that changes the fitted tyre: a change refits (the fingerprint beside each .tir)
+        options = {"cost": cost, "convention": convention, **({"model": model} if model != "pac89" else {})}
+        tasks, records = _plan(files, out, force, options)
+    except BaseException:
+        if own_client:
+            client.close()
+        raise
     tasks = [(s, t, n, cost, convention, st, fp, model) for (s, t, n, _, _, st, fp) in tasks]
 
-    client, own_client = (None, False)
-    if scheduler is not None:
-        client, own_client = _dask_client(scheduler)
+    if client is not None:
         backend = f"dask({getattr(client, 'scheduler', None) and client.scheduler.address})"
     else:
         n = min(int(workers) if workers else _default_workers(), max(len(tasks), 1))
