@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import DataError
 from ..io.outputs import check_output, staged_dir, write_text
 
-__all__ = ["run", "sim_report", "jsonable"]
+__all__ = ["run", "sim_report", "ramp_report", "jsonable", "add_scenario_parsers"]
 
 _TITLES = {
     "braking": "Emergency braking (seed 000 Table 3)",
@@ -187,10 +187,75 @@ def _trace_name(scenario: str, condition: float, speed: float) -> str:
     return f"{scenario}_eta{condition:g}_{speed:g}kmh.csv"
 
 
+def _ramp_summary(run_) -> str:
+    d = run_.json
+    cf = d["closed_form"]
+    return "\n".join([
+        f"Steady-state constant-radius ramp, R = {d['radius_m']:g} m, vehicle {run_.vehicle.name!r}",
+        f"  understeer gradient {d['understeer_gradient_deg_per_g']:.4f} deg/g (linear bicycle model from the "
+        f"tyres' cornering stiffness: {cf['understeer_gradient_deg_per_g']:.4f} deg/g)",
+        f"  lateral limit {d['lateral_limit_g']:.3f} g: {d['limit']}"])
+
+
+def ramp_report(run_):
+    """HTML report of a ramp: steering, body slip, slip angles and wheel loads over a_y, and the envelope."""
+    from ..io.report import Report
+    from ..sim.plots import ramp_figure
+
+    d = run_.json
+    r = Report(f"Constant-radius ramp: {run_.vehicle.name}",
+               subtitle="Steady states on a circle at rising speed (ISO 4138 style), with lateral load transfer "
+                        "and aerodynamic load.")
+    r.table([{"item": "radius [m]", "value": d["radius_m"]},
+             {"item": "understeer gradient [deg/g]", "value": d["understeer_gradient_deg_per_g"]},
+             {"item": "linear bicycle model (m/L)(l_r/C_f - l_f/C_r) [deg/g]",
+              "value": d["closed_form"]["understeer_gradient_deg_per_g"]},
+             {"item": "axle cornering stiffness front / rear at static load [N/rad]",
+              "value": f"{d['closed_form']['cornering_stiffness_front_N_per_rad']:.0f} / "
+                       f"{d['closed_form']['cornering_stiffness_rear_N_per_rad']:.0f}"},
+             {"item": "lateral limit [g]", "value": d["lateral_limit_g"]},
+             {"item": "limited by", "value": d["limit"]}])
+    r.figure(ramp_figure(run_.result), "Steering angle, body slip angle, axle slip angles and wheel loads over the "
+                                       "lateral acceleration.")
+    return r
+
+
+def _envelope_section(r, run_) -> None:
+    from ..sim.envelope import envelope_figure
+
+    r.h2("Where the tyres worked")
+    r.table([{"tyre": role, "file": s["file"], "outside envelope [% of time]": 100 * s["outside_envelope"],
+              "worst": s["worst"] or ""} for role, s in run_.json["tyres"].items()])
+    r.figure(envelope_figure(run_.tyres, run_.points, f"{run_.scenario}, vehicle {run_.vehicle.name}"),
+             "Each tyre's operating points (every wheel it is on, every time step) over the envelope its file "
+             "declares (grey box: the fitted ranges of load, slip angle and slip ratio); red points are outside.")
+
+
+def add_scenario_parsers(ssub, common, allow_unphysical) -> None:
+    """The ``sim braking|straight|curved|ramp`` subparsers (cli.py calls this)."""
+    for name, text in (("braking", "emergency braking, 30/60/120 km/h, conditions 0.5 and 1.0"),
+                       ("straight", "accelerate to speed then brake on a straight path"),
+                       ("curved", "straight, arc at half the UK desirable minimum radius, straight"),
+                       ("ramp", "steady-state constant-radius ramp to the limit: understeer gradient, lateral "
+                                "limit")):
+        s = ssub.add_parser(name, parents=[common], help=text)
+        s.add_argument("--front", metavar="F.tir", help="front (hard, low-wear) tyre; default the bundled one")
+        s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
+        s.add_argument("--vehicle", metavar="FILE|PRESET", default="ev",
+                       help="vehicle file (TOML or JSON) or preset: ev (default, seed 000's car), fsae, light_truck")
+        s.add_argument("--strict", action="store_true",
+                       help="refuse when a tyre works outside the load/slip envelope its file declares")
+        s.add_argument("--json", metavar="OUT.json")
+        s.add_argument("--report", metavar="DIR")
+        allow_unphysical(s)
+
+
 def run(args) -> int:
-    """Entry point of ``tyrefit sim braking|straight|curved``."""
+    """Entry point of ``tyrefit sim braking|straight|curved|ramp``: one :func:`tyrefit.sim.api.simulate` call."""
+    import sys
+
+    from ..sim.api import SCENARIOS, simulate
     from ..sim.plots import traces_frame
-    from ..sim.scenarios import SCENARIOS, run_scenario
 
     scenario = args.scenario
     if scenario not in SCENARIOS:  # pragma: no cover - argparse restricts the choices
@@ -201,20 +266,26 @@ def run(args) -> int:
         rp = Path(args.report)
         if rp.exists() and any(rp.iterdir()) and not args.force:
             check_output(rp, False)
-    setup = _setup(args)
-    res = run_scenario(scenario, setup)
-    print(_summary(res))
+    run_ = simulate(scenario, getattr(args, "front", None), getattr(args, "rear", None),
+                    vehicle=getattr(args, "vehicle", None) or "ev", strict=getattr(args, "strict", False),
+                    allow_unphysical=getattr(args, "allow_unphysical", False))
+    res = run_.result
+    print(_summary(res) if scenario != "ramp" else _ramp_summary(run_))
+    for w in run_.warnings:
+        print(f"tyrefit sim: warning: {w}", file=sys.stderr)
     if getattr(args, "json", None):
-        write_text(args.json, json.dumps(jsonable(res.to_json()), indent=2) + "\n", force=args.force)
+        write_text(args.json, json.dumps(jsonable(run_.json), indent=2) + "\n", force=args.force)
         print(f"wrote {args.json}")
     if getattr(args, "report", None):
-        report = sim_report(res)
+        report = sim_report(res) if scenario != "ramp" else ramp_report(run_)
+        _envelope_section(report, run_)
         with staged_dir(args.report, force=args.force) as d:
             report.save(d)
-            for j, (c, spd) in enumerate(res.members):
-                df = traces_frame(res, j)
-                write_text(d / _trace_name(scenario, c, spd),
-                           df.to_csv(index=False, lineterminator="\n", float_format="%.7g"),
-                           force=True)
+            if scenario != "ramp":
+                for j, (c, spd) in enumerate(res.members):
+                    df = traces_frame(res, j)
+                    write_text(d / _trace_name(scenario, c, spd),
+                               df.to_csv(index=False, lineterminator="\n", float_format="%.7g"),
+                               force=True)
         print(f"wrote {Path(args.report) / 'index.html'}")
     return 0

@@ -174,3 +174,34 @@ def traces_frame(result, j: int, every_s: float = 0.05):
         df.insert(0, "vehicle", name)
         frames.append(df)
     return pd.concat(frames, ignore_index=True)
+
+
+def ramp_figure(ramp):
+    """A constant-radius ramp over lateral acceleration: steering, body slip, axle slip angles, wheel loads."""
+    from matplotlib.figure import Figure
+
+    s = ramp.states
+    g = 9.80665
+    ay = s["ay"] / g
+    deg = 180.0 / np.pi
+    fig = Figure(figsize=(12, 7))
+    axs = fig.subplots(2, 2)
+    axs[0, 0].plot(ay, s["steer"] * deg, color="k", label="steering angle")
+    axs[0, 0].axhline(ramp.vehicle["wheelbase"] / ramp.radius * deg, color="0.6", ls=":", label="Ackermann L/R")
+    axs[0, 0].set_ylabel("steering angle [deg]")
+    axs[0, 0].set_title(f"understeer gradient {ramp.understeer_gradient_deg_per_g:.3f} deg/g; limit "
+                        f"{ramp.lateral_limit_g:.3f} g", fontsize=9)
+    axs[0, 1].plot(ay, s["beta"] * deg, color="k")
+    axs[0, 1].set_ylabel("body slip angle [deg]")
+    axs[1, 0].plot(ay, -s["slip_angle_f"] * deg, label="front axle")
+    axs[1, 0].plot(ay, -s["slip_angle_r"] * deg, ":", label="rear axle")
+    axs[1, 0].set_ylabel("|slip angle| [deg]")
+    for k, ls in (("fl", "-"), ("fr", "-"), ("rl", ":"), ("rr", ":")):
+        axs[1, 1].plot(ay, s[f"fz_{k}"] / 1e3, ls, label=k)
+    axs[1, 1].set_ylabel("wheel load [kN]")
+    for ax in axs.ravel():
+        ax.set_xlabel("lateral acceleration [g]")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig

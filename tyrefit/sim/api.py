@@ -1,0 +1,118 @@
+"""One call for every vehicle scenario: :func:`simulate` (what ``tyrefit sim`` and ``tf.simulate`` run).
+
+``simulate(scenario, front=None, rear=None, vehicle="ev")`` reads the tyres and the
+vehicle, runs the scenario, checks where the tyres worked against the envelope
+each declares (:mod:`~tyrefit.sim.envelope`), and returns a :class:`SimRun` whose
+``json`` is the ``sim --json`` document (DESIGN: the scenario's keys, plus
+``"vehicle"`` (SI) and ``"tyres": {"front": {"file", "outside_envelope",
+"worst"}, "rear": {...}}``).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+from ..errors import DataError, ValueRangeError
+from .vehicle_file import VehicleSpec, load_vehicle
+
+__all__ = ["SimRun", "simulate", "SCENARIOS"]
+
+#: seed 000's scenarios (bicycle model at static loads) and the vehicle-dynamics ones
+PAPER_SCENARIOS = ("braking", "straight", "curved")
+SCENARIOS = PAPER_SCENARIOS + ("ramp",)
+
+
+@dataclass
+class SimRun:
+    """A scenario's outcome: the JSON document, the result objects, the tyres and the envelope points."""
+
+    scenario: str
+    json: dict
+    result: object                    # ScenarioResult (paper scenarios) or RampResult
+    vehicle: VehicleSpec
+    tyres: dict                       # 'front'/'rear' -> Tyre
+    points: dict                      # 'front'/'rear' -> OperatingPoints
+    warnings: list[str] = field(default_factory=list)
+
+    def to_json(self) -> dict:
+        return self.json
+
+
+def _tyre(t, allow_unphysical: bool):
+    from ..tyres.base import Tyre
+    from .tyres import load_tyre
+
+    if t is None or isinstance(t, Tyre):
+        return t, (getattr(t, "name", None) if t is not None else None)
+    return load_tyre(t, allow_unphysical=allow_unphysical), str(t)
+
+
+def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike | VehicleSpec | dict" = "ev", *,
+             strict: bool = False, allow_unphysical: bool = False, radius: float | None = None) -> SimRun:
+    """Run a scenario on a vehicle with its tyres.
+
+    Parameters
+    ----------
+    scenario : {'braking', 'straight', 'curved', 'ramp'}
+    front, rear : Tyre or path, optional
+        The front (low-wear in seed 000's scenarios) and rear tyres; the bundled
+        hard and soft tyres when omitted.
+    vehicle : str, path, VehicleSpec or dict
+        A preset (``ev``, the default and seed 000's car; ``fsae``; ``light_truck``) or a
+        vehicle file (TOML or JSON; :mod:`~tyrefit.sim.vehicle_file`).
+    strict : bool
+        Refuse (:class:`~tyrefit.errors.ValueRangeError`) when a tyre works outside the
+        envelope it declares, instead of warning.
+    allow_unphysical : bool
+        Use tyre files whose model is unphysical over their declared range.
+    radius : float, optional
+        ``ramp``: circle radius [m] (default: the vehicle's ``ramp_radius``).
+
+    Returns
+    -------
+    SimRun
+        ``.json`` is the ``sim --json`` document; ``.warnings`` the out-of-envelope warnings.
+    """
+    from .envelope import envelope_summary, points_from_paper_result, points_from_ramp
+    from .tyres import default_tyres
+
+    if scenario not in SCENARIOS:
+        from ..errors import close_matches
+
+        raise DataError(f"unknown scenario {scenario!r}{close_matches(scenario, SCENARIOS)}; accepted: "
+                        f"{', '.join(SCENARIOS)}")
+    spec = load_vehicle(vehicle)
+    (f, f_file), (r, r_file) = _tyre(front, allow_unphysical), _tyre(rear, allow_unphysical)
+    if f is None or r is None:
+        f0, r0 = default_tyres()
+        if f is None:
+            f, f_file = f0, f"bundled {f0.name}"
+        if r is None:
+            r, r_file = r0, f"bundled {r0.name}"
+    tyres = {"front": f, "rear": r}
+    if scenario in PAPER_SCENARIOS:
+        from .scenarios import SimSetup, run_scenario
+
+        setup = SimSetup(front=f, rear=r, vehicle=spec.to_params())
+        res = run_scenario(scenario, setup)
+        doc = res.to_json()
+        fz = {"front": setup.hard_front.fz, "rear": setup.soft_rear.fz}
+        points = {role: points_from_paper_result(res, role, fz) for role in ("front", "rear")}
+    else:
+        from .handling import run_ramp
+
+        res = run_ramp(spec, f, r, radius=radius)
+        doc = {"scenario": "ramp", **res.to_json()}
+        points = {role: points_from_ramp(res, role) for role in ("front", "rear")}
+    files = {"front": f_file, "rear": r_file}
+    summary = {role: envelope_summary(tyres[role], points[role], files[role]) for role in ("front", "rear")}
+    doc["vehicle"] = spec.to_dict()
+    doc["tyres"] = summary
+    warns = [f"{role} tyre {files[role]}: outside its declared envelope {100 * s['outside_envelope']:.1f} % of "
+             f"the simulated time; worst: {s['worst']}"
+             for role, s in summary.items() if s["outside_envelope"] > 0]
+    if strict and warns:
+        raise ValueRangeError(f"--strict: {warns[0]}" + (f" (and the {warns[1].split()[0]} tyre)" if len(warns) > 1
+                                                         else ""))
+    return SimRun(scenario, doc, res, spec, tyres, points, warns)
