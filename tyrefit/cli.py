@@ -152,15 +152,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sim", help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")
     ssub = p.add_subparsers(dest="scenario", metavar="SCENARIO", parser_class=_Parser)
     ssub.required = True
-    for name, text in (("braking", "emergency braking, 30/60/120 km/h, conditions 0.5 and 1.0"),
-                       ("straight", "accelerate to speed then brake on a straight path"),
-                       ("curved", "straight, arc at half the UK desirable minimum radius, straight")):
-        s = ssub.add_parser(name, parents=[common], help=text)
-        s.add_argument("--front", metavar="F.tir", help="front (hard, low-wear) tyre; default the bundled one")
-        s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
-        s.add_argument("--json", metavar="OUT.json")
-        s.add_argument("--report", metavar="DIR")
-        _allow_unphysical(s)
+    from .commands.sim import add_scenario_parsers
+
+    add_scenario_parsers(ssub, common, _allow_unphysical)
     s = ssub.add_parser("adhesion", parents=[common], help="EKF road-adhesion estimation (seed 001)")
     s.add_argument("--road-mu", type=float, default=0.8, metavar="MU")
     s.add_argument("--camber", type=float, default=0.0, metavar="DEG")
