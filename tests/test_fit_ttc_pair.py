@@ -58,6 +58,19 @@ def test_eval_compare_and_sim_load_it_without_allow_unphysical(fitted, tmp_path,
     assert len(err) == 1 and "outside its declared load range" in err[0]
 
 
+def test_sim_runs_the_fsae_tyre_on_the_fsae_preset(fitted, tmp_path):
+    # the FSAE preset (280 kg, downforce) puts the tyre's own loads on it: braking and the constant-radius ramp run
+    _, _, _, tir = fitted
+    for scenario in ("braking", "ramp"):
+        js = tmp_path / f"{scenario}.json"
+        assert main(["sim", scenario, "--front", str(tir), "--rear", str(tir), "--vehicle", "fsae",
+                     "--json", str(js)]) == 0
+        out = json.loads(js.read_text())
+        assert out["vehicle"]["mass"] == pytest.approx(280.0, rel=0.05)
+        assert "outside_envelope" in out["tyres"]["front"]
+    assert out["lateral_limit_g"] > 1.5
+
+
 def test_sim_runs_a_fitted_mf_tyre_at_loads_inside_its_range(tmp_path):
     # the bundled TTC-style pair of a 6.75 kN passenger-car tyre: the default vehicle's 4.4 kN is inside its range
     from tyrefit.io.datasets import data_dir

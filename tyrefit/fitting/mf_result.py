@@ -215,6 +215,9 @@ class FitResultMF:
             for src, rs in (s.get("by_record") or {}).items():
                 lines.append(f"  {c.upper()} on {src}: RMSE {rs['rmse']:.4g} {u}, noise floor {rs['noise_floor']:.3g} "
                              f"{u} ({rs['n']} points)")
+        for k, why in self.not_identifiable.items():  # the holds a reader should know of, with their reason
+            if why.startswith(("not identified", "held at 0", "no sweep reaches")) or " not fitted: " in why:
+                lines.append(f"HELD {k} = {self.params.get(k, float('nan')):.6g}: {why}")
         if self.effects:
             lines.append("Fy0 effects: " + ", ".join(self.effects))
         lines += self._speed_lines()
