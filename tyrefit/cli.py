@@ -11,11 +11,29 @@ Exit codes: 0 success, 2 bad input (one line on stderr, no traceback unless
 
 from __future__ import annotations
 
+import os
+import signal
+import sys
+
+
+def _startup_interrupt(signum, frame):  # pragma: no cover - exercised in a subprocess
+    """Ctrl-C before a command has started: nothing is written yet, so one line and exit 130."""
+    try:
+        os.write(2, b"tyrefit: interrupted\n")
+    finally:
+        os._exit(130)
+
+
+#: installed first thing when ``tyrefit`` is the program (not when a script or test imports the module)
+if __name__ == "__main__" or os.path.basename(sys.argv[0] if sys.argv else "").removesuffix(".exe") == "tyrefit":
+    try:
+        signal.signal(signal.SIGINT, _startup_interrupt)
+    except (ValueError, OSError):  # pragma: no cover - not the main thread
+        pass
+
 import argparse
 import importlib
 import math
-import os
-import sys
 from collections.abc import Sequence
 
 from .errors import TyrefitError
@@ -303,6 +321,9 @@ def _run(args: argparse.Namespace) -> int:
     set_max_size_mb(getattr(args, "max_size", None))
     inputs, files, folders = _io_plan(args)
     module = importlib.import_module(f"tyrefit.commands.{_module_for(args)}")
+    for m in ("numpy", "pandas"):  # the libraries every command imports, still under the start-up handler
+        importlib.import_module(m)
+    _set_sigint(_run_interrupt)  # from here a Ctrl-C unwinds: staged outputs are removed, exit 130
     if args.command == "batch":  # a batch commits each tyre as it finishes (tyrefit.fitting.batch)
         with output_run(inputs, folders, force=getattr(args, "force", False)):
             _preflight(args, inputs, files, folders)
@@ -365,19 +386,56 @@ class _PipeSafeStdout:
         return getattr(self._stream, name)
 
 
+def _set_sigint(handler):
+    """Install a SIGINT handler (main thread only); return the previous one, or None."""
+    try:
+        return signal.signal(signal.SIGINT, handler)
+    except (ValueError, OSError):  # not the main thread
+        return None
+
+
+#: where a KeyboardInterrupt cannot propagate and is printed as "Exception ignored in ...": weakref
+#: callbacks and finalizers (importlib's module-lock callback, __del__)
+_FRAGILE_NAMES = ("__del__", "cb", "_remove", "_callback")
+
+
+def _run_interrupt(signum, frame):
+    """Ctrl-C while a command runs: KeyboardInterrupt, except inside a finalizer or importlib's
+    bootstrap, where it would be printed and dropped; there it is delivered again 20 ms later."""
+    f = frame
+    if f is not None and (f.f_code.co_filename.startswith("<frozen importlib") or f.f_code.co_name in _FRAGILE_NAMES):
+        import threading
+
+        t = threading.Timer(0.02, os.kill, (os.getpid(), signal.SIGINT))
+        t.daemon = True
+        t.start()
+        return
+    raise KeyboardInterrupt
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    outer = sys.stdout
-    if not isinstance(outer, _PipeSafeStdout):
-        sys.stdout = _PipeSafeStdout(outer)
+    previous = _set_sigint(_startup_interrupt) if _is_program() else None
     try:
-        return _main(args)
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        outer = sys.stdout
+        if not isinstance(outer, _PipeSafeStdout):
+            sys.stdout = _PipeSafeStdout(outer)
+        try:
+            return _main(args)
+        finally:
+            if sys.stdout is not outer:
+                sys.stdout.flush()
+                sys.stdout = outer
     finally:
-        if sys.stdout is not outer:
-            sys.stdout.flush()
-            sys.stdout = outer
+        if previous is not None:
+            _set_sigint(previous)
+
+
+def _is_program() -> bool:
+    """Is this process the ``tyrefit`` program (entry point or ``python -m tyrefit.cli``)?"""
+    return signal.getsignal(signal.SIGINT) is _startup_interrupt
 
 
 def _main(args: argparse.Namespace) -> int:
@@ -407,7 +465,8 @@ def _main(args: argparse.Namespace) -> int:
         print(f"tyrefit {args.command}: error: out of memory; the input is too large for this machine "
               "(see --max-size)", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:  # pragma: no cover
+    except KeyboardInterrupt:  # pragma: no cover - exercised in a subprocess
+        _set_sigint(signal.SIG_IGN)  # a second Ctrl-C while saying so is not a traceback
         print("tyrefit: interrupted", file=sys.stderr)
         return 130
 
