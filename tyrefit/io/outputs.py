@@ -55,6 +55,34 @@ __all__ = ["check_output", "check_outputs", "atomic_write", "write_text", "write
 MANIFEST = ".tyrefit-manifest.json"
 
 
+def _name_max(directory: str | os.PathLike) -> int:
+    """The longest file name (bytes) the file system of ``directory`` takes (NAME_MAX, usually 255)."""
+    try:
+        return int(os.pathconf(directory, "PC_NAME_MAX"))
+    except (OSError, ValueError, AttributeError):
+        return 255
+
+
+def side_name(name: str, directory: str | os.PathLike, *, prefix: str = ".", suffix: str = "",
+              extra: int = 0) -> str:
+    """``prefix + name + suffix`` for a temporary or backup file beside ``name``, with ``name`` cut
+    (on a whole character) so the result, plus ``extra`` bytes a caller adds (mkstemp's random
+    part), fits the file system's NAME_MAX: a legal 255-byte output name keeps a legal side file."""
+    room = _name_max(directory) - len(os.fsencode(prefix + suffix)) - extra
+    raw = os.fsencode(name)
+    if len(raw) > room:
+        raw = raw[:max(room, 1)]
+        while raw and (raw[-1] & 0xC0) == 0x80:  # a cut UTF-8 sequence: drop its continuation bytes
+            raw = raw[:-1]
+        if raw and raw[-1] >= 0xC0:  # ... and its lead byte
+            raw = raw[:-1]
+    return prefix + os.fsdecode(raw) + suffix
+
+
+#: characters mkstemp/mkdtemp add between prefix and suffix
+_RANDOM = 8
+
+
 def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
@@ -354,7 +382,7 @@ class OutputRun:
                 r = Path(os.path.abspath(shown))
                 backup = None
                 if r.exists() and not r.is_symlink():
-                    backup = r.with_name(f".{r.name}.{os.getpid()}.bak")
+                    backup = r.with_name(side_name(r.name, r.parent, suffix=f".{os.getpid()}.bak"))
                     try:
                         os.link(r, backup)
                     except OSError:
@@ -454,7 +482,8 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", force: bool = False, 
         except OSError as exc:
             raise _oserror(exc, p.parent, "cannot create the folder") from None
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+        fd, tmp = tempfile.mkstemp(prefix=side_name(p.name, p.parent, suffix=".", extra=_RANDOM + 4),
+                                   suffix=".tmp", dir=p.parent)
     except OSError as exc:
         raise _oserror(exc, p) from None
     try:
@@ -513,7 +542,9 @@ def staged_dir(path: str | os.PathLike, force: bool = False) -> Iterator[Path]:
     try:
         # absolute: files written into it are recognised as inside it (_in_tmpdir compares absolute paths);
         # a relative --report DIR made a relative key and its files were staged twice
-        tmp = Path(os.path.abspath(tempfile.mkdtemp(prefix=f".{p.name}.", dir=p.parent if p.parent.exists() else None)))
+        parent = p.parent if p.parent.exists() else None
+        tmp = Path(os.path.abspath(tempfile.mkdtemp(
+            prefix=side_name(p.name, parent or tempfile.gettempdir(), suffix=".", extra=_RANDOM), dir=parent)))
     except OSError as exc:
         raise _oserror(exc, p, "cannot create the folder") from None
     run.tmpdirs[tmp] = _real(p)
