@@ -158,6 +158,9 @@ def check_output(path: str | os.PathLike, force: bool = False) -> Path:
     p = Path(path)
     if p.is_dir():
         raise OutputError(f"{p}: is a folder; give a file name for this output")
+    if str(path).endswith(("/", os.sep)) or str(path) in (".", ".."):  # Path('out/') would be the file 'out'
+        raise OutputError(f"{path}: names a folder (it ends with '/'); give a file name for this output, "
+                          "e.g. out/result.json")
     for q in (os.path.abspath(p), os.path.realpath(p)):
         if q.startswith(("/dev/", "/proc/", "/sys/")):  # /dev/stdout, /proc/self/fd/1: not a file to rename over
             raise OutputError(f"{p}: is in {q.split('/')[1] and '/' + q.split('/')[1]}; tyrefit writes its outputs "
