@@ -16,9 +16,10 @@ __all__ = ["data_dir", "data_path"]
 
 
 def data_dir() -> Path:
-    """The folder of bundled data (``<repo>/data``)."""
+    """The folder of bundled data: ``tyrefit/data`` (package data in a wheel; in a source checkout a link to
+    ``<repo>/data``), else ``<repo>/data``."""
     pkg = Path(__file__).resolve().parents[1]  # tyrefit/
-    for cand in (pkg.parent / "data", pkg / "data"):
+    for cand in (pkg / "data", pkg.parent / "data"):
         if cand.is_dir():
             return cand
     raise DataError("bundled data folder not found; run tyrefit from a source checkout "
