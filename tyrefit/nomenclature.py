@@ -83,9 +83,9 @@ GLOSSARY: dict[str, Quantity] = {
 # unit name -> (dimension, factor to SI, offset) ; SI = value * factor
 _U: dict[str, tuple[str, float]] = {
     # force
-    "N": ("force", 1.0), "kN": ("force", 1e3), "lbf": ("force", 4.4482216152605), "kg": ("force", G0),
+    "N": ("force", 1.0), "daN": ("force", 10.0), "kN": ("force", 1e3), "lbf": ("force", 4.4482216152605), "kg": ("force", G0),
     # moment
-    "N*m": ("moment", 1.0), "Nm": ("moment", 1.0), "N.m": ("moment", 1.0), "kNm": ("moment", 1e3),
+    "N*m": ("moment", 1.0), "Nm": ("moment", 1.0), "N.m": ("moment", 1.0), "daN*m": ("moment", 10.0), "kNm": ("moment", 1e3),
     "lbf*ft": ("moment", 1.3558179483314004), "ft*lbf": ("moment", 1.3558179483314004),
     # angle
     "rad": ("angle", 1.0), "deg": ("angle", math.pi / 180.0),
@@ -129,6 +129,11 @@ _UNIT_SYNONYMS = {
     "m/s": "m/s", "mps": "m/s", "m2": "m2", "m^2": "m2", "cm^2": "cm2", "mm^2": "mm2", "in^2": "in2",
     "percent": "%", "": "-", "none": "-", "ratio": "-", "sec": "s", "n/mm": "N/mm", "n/m": "N/m",
     "kn/m": "kN/m", "kn/mm": "kN/mm",
+    # the ordinal indicator U+00BA and the ring above U+02DA, typed for a degree on many keyboards
+    "º": "deg", "˚": "deg", "deg.": "deg",
+    # decanewton (10 N), common on European rigs and load indices
+    "dan": "daN", "decanewton": "daN", "decanewtons": "daN", "danm": "daN*m", "dan*m": "daN*m",
+    "dan.m": "daN*m", "dan m": "daN*m", "dan-m": "daN*m",
     # US customary spellings of FSAE TTC files
     "ft-lb": "lbf*ft", "lb-ft": "lbf*ft", "ft.lb": "lbf*ft", "ft*lb": "lbf*ft", "lbf-ft": "lbf*ft",
     "ft-lbf": "lbf*ft", "lb*ft": "lbf*ft", "km/hour": "km/h", "mi/h": "mph",
