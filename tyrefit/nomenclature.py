@@ -83,7 +83,7 @@ GLOSSARY: dict[str, Quantity] = {
 # unit name -> (dimension, factor to SI, offset) ; SI = value * factor
 _U: dict[str, tuple[str, float]] = {
     # force
-    "N": ("force", 1.0), "daN": ("force", 10.0), "kN": ("force", 1e3), "lbf": ("force", 4.4482216152605), "kg": ("force", G0),
+    "N": ("force", 1.0), "kN": ("force", 1e3), "daN": ("force", 10.0), "lbf": ("force", 4.4482216152605), "kg": ("force", G0),
     # moment
     "N*m": ("moment", 1.0), "Nm": ("moment", 1.0), "N.m": ("moment", 1.0), "daN*m": ("moment", 10.0), "kNm": ("moment", 1e3),
     "lbf*ft": ("moment", 1.3558179483314004), "ft*lbf": ("moment", 1.3558179483314004),
