@@ -250,3 +250,15 @@ def test_bundled_tyres_keep_the_contract():
     assert files
     for f in files:
         assert check_tyre(read_tyre(f)) == [], f
+
+
+def test_the_result_says_what_it_held_and_the_contract_verdict(published_fit, tmp_path):
+    import json
+
+    d = json.loads(json.dumps(published_fit.to_dict(), default=float))
+    assert d["contract"] == []
+    held = d["not_identified"]
+    assert held["RHY1"]["reason"].startswith("held at 0") and held["RHY1"]["value"] == 0.0
+    assert any(v["reason"].startswith("not identified: standard error") for v in held.values())
+    out = published_fit.write_tir(tmp_path / "t.tir")
+    assert "HELD RHX1 = 0: held at 0" in out.read_text()

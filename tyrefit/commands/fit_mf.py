@@ -36,6 +36,7 @@ value has one of four origins, said in the header and on the console:
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 
@@ -125,6 +126,7 @@ def _report(result, start, args, out: Path, datas) -> None:
     rdir.mkdir(parents=True, exist_ok=True)
     if not result.cells.empty:
         write_text(rdir / "cells.csv", result.cells.to_csv(index=False), force=True)
+    write_text(rdir / "fit.json", json.dumps(result.to_dict(), indent=1, default=float), force=True)
     r.save(rdir, force=args.force)
 
 

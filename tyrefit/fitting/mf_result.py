@@ -290,6 +290,16 @@ class FitResultMF:
         write_text(path, text, force=force)
         return Path(path)
 
+    def to_dict(self) -> dict:
+        """The fit as JSON-able data: model, per-channel statistics (and per record), the coefficients fitted
+        and held (with the reason), the contract's verdict, warnings and notes."""
+        return {"model": self.model, "version": self.version, "cost": self.cost, "seconds": self.seconds,
+                "stats": self.stats, "fitted": {k: self.params[k] for k in self.fitted},
+                "not_identified": {k: {"value": self.params.get(k), "reason": why}
+                                   for k, why in self.not_identifiable.items()},
+                "ranges": self.ranges(), "contract": [str(v) for v in self.contract()],
+                "warnings": list(self.warnings), "notes": list(self.notes)}
+
     def require_valid(self) -> None:
         """Raise :class:`~tyrefit.errors.FitError` if the tyre breaks the contract or its reader's check."""
         from ..errors import FitError
