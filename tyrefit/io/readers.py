@@ -515,6 +515,9 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     # runs ----------------------------------------------------------------
     if not t.segment and _continuous_record(df, kind):
         t.segment = True
+        df, note = _time_order(df)
+        if note:
+            meta["time_order"] = note
     if t.segment:
         from .segment import segment_record
 
@@ -703,12 +706,45 @@ def check_plausible(ds: Dataset, headers: dict[str, str] | None = None) -> None:
 CONTINUOUS_MIN_ROWS = 1000
 
 
+#: a logged record's clock may repeat or swap a few samples (an export's rounding, a logger's buffer):
+#: at most this share of its steps may fail to rise, each back by at most :data:`_MAX_BACK_STEPS` sample times
+_MAX_UNORDERED = 0.01
+_MAX_BACK_STEPS = 10.0
+
+
 def _continuous_record(df: pd.DataFrame, kind: str) -> bool:
-    """A logged record rather than a table of sweeps: slip test, no ``run``, a rising ``time``, many rows."""
+    """A logged record rather than a table of sweeps: slip test, no ``run``, a rising ``time``, many rows.
+
+    The clock must rise over the record; a few repeated or swapped samples (at most 1 % of the steps,
+    none back by more than 10 sample times) are allowed and put in time order by :func:`_time_order`.
+    A clock that restarts (two records joined) is not one record.
+    """
     if kind not in ("slip_angle", "slip_ratio") or "run" in df or "time" not in df or len(df) < CONTINUOUS_MIN_ROWS:
         return False
+    if not _numeric(df["time"]):
+        return False
     t = df["time"].to_numpy(float)
-    return bool(np.all(np.diff(t) > 0))
+    if not np.all(np.isfinite(t)):
+        return False
+    d = np.diff(t)
+    if np.all(d > 0):
+        return True
+    rising = d[d > 0]
+    if rising.size < (1 - _MAX_UNORDERED) * d.size:
+        return False
+    dt = float(np.median(rising))
+    return bool(t[-1] > t[0] and np.all(d >= -_MAX_BACK_STEPS * dt))
+
+
+def _time_order(df: pd.DataFrame) -> tuple[pd.DataFrame, str | None]:
+    """``df`` in time order (stable: repeated times keep the file's order) and a note, or ``df`` and None."""
+    d = np.diff(df["time"].to_numpy(float))
+    back, same = int((d < 0).sum()), int((d == 0).sum())
+    if not back and not same:
+        return df, None
+    note = (f"time: {same} repeated and {back} out-of-order sample time{'s' if back + same > 1 else ''}; "
+            "samples read in time order")
+    return (df.sort_values("time", kind="mergesort") if back else df), note
 
 
 def _check_ranges(df: pd.DataFrame, kind: str, p: Path, headers: dict[str, str],
