@@ -655,7 +655,7 @@ def check_plausible(ds: Dataset, headers: dict[str, str] | None = None) -> None:
             raise ValueRangeError(f"{src}: the load is not held during the sweeps (it varies by a median "
                                   f"{float(np.median(drift)):.0%} of its value within a sweep, over {n_runs} "
                                   "sweeps): a load ramp is not slip sweeps at held loads")
-        if len(levels) > MAX_LOAD_LEVELS:
+        if len(levels) > MAX_LOAD_LEVELS and _load_moves_in_sweeps(df, src_col, levels):
             raise ValueRangeError(f"{src}: {len(levels)} distinct loads from {levels[0]:.0f} to {levels[-1]:.0f} N "
                                   f"over {n_runs} sweeps: too many conditions to be sweeps at held loads (a load "
                                   f"ramp?); rig sweeps hold the load at a few levels (at most {MAX_LOAD_LEVELS})")
@@ -700,6 +700,35 @@ def check_plausible(ds: Dataset, headers: dict[str, str] | None = None) -> None:
                       "slip_ratio": "a positive (driving) slip ratio gives a positive Fx"}[kind]
             raise ValueRangeError(f"{src}: sign of '{hf}' is reversed in every sweep (ISO-W: {expect}; SAE files "
                                   "keep that relation): the force channel (or the slip channel) is inverted")
+
+
+def _load_moves_in_sweeps(df: pd.DataFrame, col: str, levels) -> bool:
+    """Does the load move within the sweeps by a good part of the step between load levels?
+
+    A load programme of many held levels (40 loads, one sweep each) holds each load through its
+    sweep: the load's change from a sweep's start to its end (least-squares line over the sweep's
+    samples) is noise, of either sign, with a median near 0.  A load ramp cut into sweeps moves the
+    same way in every sweep by about one step.  True when the median signed change is over a quarter
+    of the median step between levels.
+    """
+    lv = np.sort(np.asarray(levels, float))
+    if lv.size < 2:
+        return False
+    step = float(np.median(np.diff(lv)))
+    g = df.groupby("run", sort=False)
+    x = g.cumcount().to_numpy(float)
+    y = df[col].to_numpy(float)
+    runs = df["run"].to_numpy()
+    t = pd.DataFrame({"run": runs, "x": x, "y": y, "xx": x * x, "xy": x * y})
+    a = t.groupby("run", sort=False).agg(n=("x", "size"), sx=("x", "sum"), sy=("y", "sum"), sxx=("xx", "sum"),
+                                         sxy=("xy", "sum"))
+    a = a[a["n"] >= 3]
+    if a.empty:
+        return True
+    den = a["n"] * a["sxx"] - a["sx"] ** 2
+    slope = (a["n"] * a["sxy"] - a["sx"] * a["sy"]) / den.where(den > 0)
+    change = (slope * (a["n"] - 1)).dropna().to_numpy(float)
+    return bool(change.size == 0 or abs(float(np.median(change))) > 0.25 * step)
 
 
 #: a CSV without a run column is treated as one continuous record (and segmented) from this many rows on
