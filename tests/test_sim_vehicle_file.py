@@ -72,6 +72,9 @@ def test_toml_and_json_files(tmp_path):
 @pytest.mark.parametrize("old, new, match", [
     ("mass = 280.0", "mass = -280.0", r"mass \[kg\] = -280.0 is outside the accepted 50 to 60000 kg"),
     ("mass = 280.0", "mass = 0.28", r"mass \[kg\] = 0.28 .*tonnes\?"),
+    ("mass = 280.0", "mass = 1.8", r"mass \[kg\] = 1.8 is outside the accepted 50 to 60000 kg \(tonnes\? give the "
+                                   r"mass in kg\)"),
+    ("mass = 280.0", "mass = 0.01", r"mass \[kg\] = 0.01 is outside the accepted 50 to 60000 kg$"),
     ("wheelbase = 1.53", "wheelbase = 1530", r"wheelbase \[m\] = 1530 .*0.5 to 12 m .*millimetres"),
     ("cg_to_front = 0.811", "cg_to_front = 1.7", r"cg_to_front \[m\] = 1.7 puts the CG outside the wheelbase; "
                                                  r"accepted strictly between 0 and wheelbase = 1.53 m"),

@@ -30,7 +30,8 @@ import numpy as np
 from ..errors import DataError
 from ..io.outputs import check_output, staged_dir, write_text
 
-__all__ = ["run", "sim_report", "ramp_report", "jsonable", "add_scenario_parsers"]
+__all__ = ["run", "sim_report", "ramp_report", "step_steer_report", "braking_turn_report", "jsonable",
+           "add_scenario_parsers"]
 
 _TITLES = {
     "braking": "Emergency braking (seed 000 Table 3)",
@@ -220,6 +221,78 @@ def ramp_report(run_):
     return r
 
 
+def _step_steer_summary(run_) -> str:
+    d = run_.json
+    return "\n".join([
+        f"Step steer at {d['speed_kmh']:.0f} km/h to {d['steer_deg']:.3f} deg (road wheels), vehicle "
+        f"{run_.vehicle.name!r}",
+        f"  yaw rate: steady {d['yaw_rate_steady_deg_per_s']:.3f} deg/s, gain {d['yaw_rate_gain_per_s']:.3f} 1/s "
+        f"(linear bicycle model {d['closed_form']['linear_bicycle_yaw_rate_gain_per_s']:.3f}), rise time "
+        f"{d['yaw_rate_rise_time_s']:.3f} s, response time {d['yaw_rate_response_time_s']:.3f} s, overshoot "
+        f"{d['yaw_rate_overshoot_pct']:.2f} %",
+        f"  lateral acceleration: steady {d['lateral_acceleration_steady_g']:.3f} g, gain "
+        f"{d['lateral_acceleration_gain_g_per_deg']:.4f} g/deg, rise time {d['lateral_acceleration_rise_time_s']:.3f} s, "
+        f"response time {d['lateral_acceleration_response_time_s']:.3f} s, overshoot "
+        f"{d['lateral_acceleration_overshoot_pct']:.2f} %"])
+
+
+def _braking_turn_summary(run_) -> str:
+    d = run_.json
+    lines = [f"Braking in a turn: R = {d['radius_m']:g} m at {d['initial_ay_g']:.2f} g ({d['initial_speed_kmh']:.1f} "
+             f"km/h), steering held, vehicle {run_.vehicle.name!r}",
+             f"  {'demand':>8} {'decel m/s2':>10} {'max':>6} {'stop [m]':>8} {'dyaw@1s deg/s':>13} "
+             f"{'path@1s [m]':>11} {'path@stop':>9}"]
+    for r in d["rows"]:
+        dem = "full" if r["deceleration_demand_g"] is None else f"{r['deceleration_demand_g']:g} g"
+        lines.append(f"  {dem:>8} {r['mean_deceleration_mps2']:10.2f} {r['max_deceleration_mps2']:6.2f} "
+                     f"{r['stopping_distance_m']:8.2f} {r['yaw_rate_deviation_1s_deg_per_s']:13.3f} "
+                     f"{r['path_deviation_1s_m']:11.3f} {r['path_deviation_stop_m']:9.3f}")
+    return "\n".join(lines)
+
+
+def _notes(r, notes) -> None:
+    for n in notes:
+        r.p(n)
+
+
+def step_steer_report(run_):
+    """HTML report of a step steer: time responses with rise time, overshoot and steady-state gain."""
+    from ..io.report import Report
+    from ..sim.plots import step_steer_figure
+
+    d = run_.json
+    r = Report(f"Step steer: {run_.vehicle.name}", subtitle="Steering step from straight running at constant "
+               "speed (ISO 7401 style), with load transfer and aerodynamic load.")
+    r.table([{"item": k.replace("_", " "), "value": d[k]} for k in d
+             if k not in ("trace", "notes", "closed_form", "scenario", "vehicle", "tyres")]
+            + [{"item": "linear bicycle model yaw-rate gain v/(L + K v^2) [1/s]",
+                "value": d["closed_form"]["linear_bicycle_yaw_rate_gain_per_s"]}])
+    r.figure(step_steer_figure(run_.result), "Steering, yaw rate, lateral acceleration and speed over time; dashed "
+                                             "the steady values, dotted 10 % and 90 % of them.")
+    _notes(r, d["notes"])
+    return r
+
+
+def braking_turn_report(run_):
+    """HTML report of braking in a turn: paths, speed, yaw-rate deviation and deceleration per brake demand."""
+    from ..io.report import Report
+    from ..sim.plots import braking_turn_figure
+
+    d = run_.json
+    r = Report(f"Braking in a turn: {run_.vehicle.name}",
+               subtitle=f"Steady cornering on R = {d['radius_m']:g} m at {d['initial_ay_g']:.2f} g, then braking "
+                        "with the steering held (ISO 7975 style), with load transfer and aerodynamic load.")
+    r.table(d["rows"])
+    r.figure(braking_turn_figure(run_.result), "Paths against the initial circle; speed, yaw rate minus v/R0 and "
+                                               "deceleration after the brake onset, per brake demand.")
+    _notes(r, d["notes"])
+    return r
+
+
+_SUMMARIES = {"ramp": _ramp_summary, "step_steer": _step_steer_summary, "braking_turn": _braking_turn_summary}
+_REPORTS = {"ramp": ramp_report, "step_steer": step_steer_report, "braking_turn": braking_turn_report}
+
+
 def _envelope_section(r, run_) -> None:
     from ..sim.envelope import envelope_figure
 
@@ -237,7 +310,11 @@ def add_scenario_parsers(ssub, common, allow_unphysical) -> None:
                        ("straight", "accelerate to speed then brake on a straight path"),
                        ("curved", "straight, arc at half the UK desirable minimum radius, straight"),
                        ("ramp", "steady-state constant-radius ramp to the limit: understeer gradient, lateral "
-                                "limit")):
+                                "limit"),
+                       ("step_steer", "step steer from straight running (ISO 7401 style): yaw-rate and lateral-"
+                                      "acceleration rise time, overshoot, steady-state gain"),
+                       ("braking_turn", "braking in a turn (ISO 7975 style): deceleration, yaw-rate and path "
+                                        "deviation, stopping distance")):
         s = ssub.add_parser(name, parents=[common], help=text)
         s.add_argument("--front", metavar="F.tir", help="front (hard, low-wear) tyre; default the bundled one")
         s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
@@ -245,6 +322,15 @@ def add_scenario_parsers(ssub, common, allow_unphysical) -> None:
                        help="vehicle file (TOML or JSON) or preset: ev (default, seed 000's car), fsae, light_truck")
         s.add_argument("--strict", action="store_true",
                        help="refuse when a tyre works outside the load/slip envelope its file declares")
+        if name == "step_steer":
+            s.add_argument("--speed", type=float, default=None, metavar="KMH", help="speed [km/h] (default 80)")
+            s.add_argument("--ay", type=float, default=None, metavar="G",
+                           help="steady-state lateral acceleration the step aims at [g] (default 0.4)")
+        if name == "braking_turn":
+            s.add_argument("--radius", type=float, default=None, metavar="M",
+                           help="radius of the steady cornering before braking [m] (default 100)")
+            s.add_argument("--ay", type=float, default=None, metavar="G",
+                           help="lateral acceleration of the steady cornering [g] (default 0.5)")
         s.add_argument("--json", metavar="OUT.json")
         s.add_argument("--report", metavar="DIR")
         allow_unphysical(s)
@@ -268,20 +354,21 @@ def run(args) -> int:
             check_output(rp, False)
     run_ = simulate(scenario, getattr(args, "front", None), getattr(args, "rear", None),
                     vehicle=getattr(args, "vehicle", None) or "ev", strict=getattr(args, "strict", False),
-                    allow_unphysical=getattr(args, "allow_unphysical", False))
+                    allow_unphysical=getattr(args, "allow_unphysical", False), radius=getattr(args, "radius", None),
+                    speed_kmh=getattr(args, "speed", None), ay_g=getattr(args, "ay", None))
     res = run_.result
-    print(_summary(res) if scenario != "ramp" else _ramp_summary(run_))
+    print(_SUMMARIES.get(scenario, lambda r: _summary(r.result))(run_))
     for w in run_.warnings:
         print(f"tyrefit sim: warning: {w}", file=sys.stderr)
     if getattr(args, "json", None):
         write_text(args.json, json.dumps(jsonable(run_.json), indent=2) + "\n", force=args.force)
         print(f"wrote {args.json}")
     if getattr(args, "report", None):
-        report = sim_report(res) if scenario != "ramp" else ramp_report(run_)
+        report = _REPORTS[scenario](run_) if scenario in _REPORTS else sim_report(res)
         _envelope_section(report, run_)
         with staged_dir(args.report, force=args.force) as d:
             report.save(d)
-            if scenario != "ramp":
+            if scenario not in _REPORTS:
                 for j, (c, spd) in enumerate(res.members):
                     df = traces_frame(res, j)
                     write_text(d / _trace_name(scenario, c, spd),

@@ -20,7 +20,7 @@ __all__ = ["SimRun", "simulate", "SCENARIOS"]
 
 #: seed 000's scenarios (bicycle model at static loads) and the vehicle-dynamics ones
 PAPER_SCENARIOS = ("braking", "straight", "curved")
-SCENARIOS = PAPER_SCENARIOS + ("ramp",)
+SCENARIOS = PAPER_SCENARIOS + ("ramp", "step_steer", "braking_turn")
 
 
 @dataclass
@@ -29,7 +29,7 @@ class SimRun:
 
     scenario: str
     json: dict
-    result: object                    # ScenarioResult (paper scenarios) or RampResult
+    result: object                    # ScenarioResult (paper scenarios), RampResult, StepSteerResult, BrakingTurnResult
     vehicle: VehicleSpec
     tyres: dict                       # 'front'/'rear' -> Tyre
     points: dict                      # 'front'/'rear' -> OperatingPoints
@@ -49,12 +49,13 @@ def _tyre(t, allow_unphysical: bool):
 
 
 def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike | VehicleSpec | dict" = "ev", *,
-             strict: bool = False, allow_unphysical: bool = False, radius: float | None = None) -> SimRun:
+             strict: bool = False, allow_unphysical: bool = False, radius: float | None = None,
+             speed_kmh: float | None = None, ay_g: float | None = None) -> SimRun:
     """Run a scenario on a vehicle with its tyres.
 
     Parameters
     ----------
-    scenario : {'braking', 'straight', 'curved', 'ramp'}
+    scenario : {'braking', 'straight', 'curved', 'ramp', 'step_steer', 'braking_turn'}
     front, rear : Tyre or path, optional
         The front (low-wear in seed 000's scenarios) and rear tyres; the bundled
         hard and soft tyres when omitted.
@@ -67,7 +68,13 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
     allow_unphysical : bool
         Use tyre files whose model is unphysical over their declared range.
     radius : float, optional
-        ``ramp``: circle radius [m] (default: the vehicle's ``ramp_radius``).
+        ``ramp``: circle radius [m] (default: the vehicle's ``ramp_radius``); ``braking_turn``: the
+        initial circle's radius [m] (default 100 m, ISO 7975).
+    speed_kmh : float, optional
+        ``step_steer``: speed [km/h] (default 80).
+    ay_g : float, optional
+        ``step_steer``: steady-state lateral acceleration the steering step aims at [g] (default 0.4);
+        ``braking_turn``: lateral acceleration of the steady cornering before braking [g] (default 0.5).
 
     Returns
     -------
@@ -99,12 +106,24 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
         doc = res.to_json()
         fz = {"front": setup.hard_front.fz, "rear": setup.soft_rear.fz}
         points = {role: points_from_paper_result(res, role, fz) for role in ("front", "rear")}
-    else:
+        doc.update(_paper_notes(doc, scenario, spec))
+    elif scenario == "ramp":
         from .handling import run_ramp
 
         res = run_ramp(spec, f, r, radius=radius)
         doc = {"scenario": "ramp", **res.to_json()}
         points = {role: points_from_ramp(res, role) for role in ("front", "rear")}
+    else:
+        from .transient import points_from_trace, run_braking_turn, run_step_steer
+
+        if scenario == "step_steer":
+            res = run_step_steer(spec, f, r, **{k: v for k, v in (("speed_kmh", speed_kmh), ("ay_g", ay_g))
+                                                if v is not None})
+        else:
+            res = run_braking_turn(spec, f, r, **{k: v for k, v in (("radius", radius), ("ay_g", ay_g))
+                                                  if v is not None})
+        doc = {"scenario": scenario, **res.to_json()}
+        points = {role: points_from_trace(res.trace, role) for role in ("front", "rear")}
     files = {"front": f_file, "rear": r_file}
     summary = {role: envelope_summary(tyres[role], points[role], files[role]) for role in ("front", "rear")}
     doc["vehicle"] = spec.to_dict()
@@ -116,3 +135,38 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
         raise ValueRangeError(f"--strict: {warns[0]}" + (f" (and the {warns[1].split()[0]} tyre)" if len(warns) > 1
                                                          else ""))
     return SimRun(scenario, doc, res, spec, tyres, points, warns)
+
+
+def _paper_notes(doc: dict, scenario: str, spec: VehicleSpec) -> dict:
+    """New top-level keys of the paper scenarios: ``comparison`` (the allocator's emission cut or the
+    stopping-distance penalty of the low-wear vehicle) and ``notes`` (what the model leaves out)."""
+    rows = doc["rows"]
+    if scenario == "braking":
+        pen = [{"condition": rows[i]["condition"], "initial_speed_kmh": rows[i]["initial_speed_kmh"],
+                "stopping_distance_base_m": rows[i]["stopping_distance_m"],
+                "stopping_distance_low_wear_m": rows[i + 1]["stopping_distance_m"],
+                "stopping_distance_penalty_pct": 100.0 * (rows[i + 1]["stopping_distance_m"]
+                                                          / rows[i]["stopping_distance_m"] - 1.0)}
+               for i in range(0, len(rows) - 1, 2)
+               if rows[i]["vehicle"] == "base" and rows[i + 1]["vehicle"] == "low_wear"]
+        vals = [p["stopping_distance_penalty_pct"] for p in pen]
+        comp = {"stopping_distance_penalty": pen,
+                "stopping_distance_penalty_pct_range": [min(vals), max(vals)] if vals else None}
+    else:
+        vals = [r["reduction_pct"] for r in rows]
+        comp = {"emission_cut_pct_range": [min(vals), max(vals)] if vals else None,
+                "emission_cut_pct_mean": sum(vals) / len(vals) if vals else None}
+    notes = [f"vehicle {spec.name!r}: mass, yaw inertia, l_f/l_r, wheel radius and inertia and drag from the "
+             "vehicle file; seed 000's bicycle model runs at the STATIC axle loads (no longitudinal or lateral "
+             "load transfer, no downforce, no rolling resistance, no motor torque or power limits), so that the "
+             "ev preset keeps the paper's results; ramp, step_steer and braking_turn carry load transfer and "
+             "aero load"]
+    k = doc.get("setup", {}).get("k")
+    if k is not None and abs(k - 1.0) < 1e-12:
+        notes.append("k = 1: the front (low-wear) and rear tyres have the same peak friction (the same tyre on "
+                     "both axles?), so the allocator has nothing to trade: no emission cut and no stopping-distance "
+                     "penalty by construction; give a harder --front tyre")
+    if spec.downforce_area != 0 or spec.rolling_resistance != 0:
+        notes.append(f"vehicle {spec.name!r} declares downforce_area {spec.downforce_area:g} m^2 and "
+                     f"rolling_resistance {spec.rolling_resistance:g}: not used by this scenario")
+    return {"comparison": comp, "notes": notes}

@@ -17,6 +17,9 @@ __all__ = [
     "scenario_figure",
     "braking_figure",
     "traces_frame",
+    "ramp_figure",
+    "step_steer_figure",
+    "braking_turn_figure",
 ]
 
 BASE_COLOR = "tab:orange"
@@ -203,5 +206,77 @@ def ramp_figure(ramp):
         ax.set_xlabel("lateral acceleration [g]")
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def step_steer_figure(res):
+    """Step steer over time: steering angle, yaw rate and lateral acceleration with their steady values and
+    the 10 % / 90 % levels, and the speed."""
+    from matplotlib.figure import Figure
+
+    tr = res.trace
+    t = tr.t
+    deg = 180.0 / np.pi
+    g = 9.80665
+    fig = Figure(figsize=(12, 7))
+    axs = fig.subplots(2, 2)
+    axs[0, 0].plot(t, tr.ch["steer"][:, 0] * deg, color="k")
+    axs[0, 0].set_ylabel("road-wheel steering angle [deg]")
+    for ax, key, scale, label, m in ((axs[0, 1], "r", deg, "yaw rate [deg/s]", res.yaw),
+                                     (axs[1, 0], "ay", 1.0 / g, "lateral acceleration [g]", res.lat)):
+        ax.plot(t, tr.ch[key][:, 0] * scale, color="tab:blue")
+        ss = m["steady_state"] * scale
+        ax.axhline(ss, color="0.4", ls="--", lw=1, label="steady state")
+        for lv in (0.1, 0.9):
+            ax.axhline(lv * ss, color="0.7", ls=":", lw=1)
+        ax.axvline(res.t50, color="0.6", lw=1, label="50 % steer")
+        ax.set_ylabel(label)
+        ax.set_title(f"rise {m['rise_time_s']:.3f} s, response {m['response_time_s']:.3f} s, overshoot "
+                     f"{m['overshoot_pct']:.1f} %", fontsize=9)
+        ax.legend(fontsize=7)
+    axs[1, 1].plot(t, tr.ch["vx"][:, 0] * 3.6, color="k")
+    axs[1, 1].set_ylabel("speed [km/h]")
+    for ax in axs.ravel():
+        ax.set_xlabel("time [s]")
+    fig.tight_layout()
+    return fig
+
+
+def braking_turn_figure(res):
+    """Braking in a turn: the paths against the initial circle, speed, yaw-rate deviation and deceleration."""
+    from matplotlib.figure import Figure
+
+    tr = res.trace
+    t = tr.t - res.t_brake
+    deg = 180.0 / np.pi
+    fig = Figure(figsize=(12, 8))
+    axs = fig.subplots(2, 2)
+    i0 = int(np.searchsorted(tr.t, res.t_brake - 1e-9))
+    for j, d in enumerate(res.demands_g):
+        lab = "full (ABS)" if d is None else f"{d:g} g demand"
+        m = tr.active[:, j]
+        m_after = m & (t >= 0)
+        sp = np.hypot(tr.ch["vx"][:, j], tr.ch["vy"][:, j])
+        axs[0, 0].plot(tr.ch["X"][m, j], tr.ch["Y"][m, j], label=lab)
+        axs[0, 1].plot(t[m_after], sp[m_after] * 3.6, label=lab)
+        ref = sp / res.radius0[j]
+        axs[1, 0].plot(t[m_after], (tr.ch["r"][m_after, j] - ref[m_after]) * deg, label=lab)
+        axs[1, 1].plot(t[m_after], -tr.ch["ax"][m_after, j], label=lab)
+    c = res.centre[:, 0]
+    phi = np.linspace(0, 2 * np.pi, 400)
+    axs[0, 0].plot(c[0] + res.radius0[0] * np.cos(phi), c[1] + res.radius0[0] * np.sin(phi), color="0.6", ls=":",
+                   lw=1, label="initial circle")
+    axs[0, 0].plot(tr.ch["X"][i0, 0], tr.ch["Y"][i0, 0], "k.", label="brake onset")
+    axs[0, 0].set_aspect("equal", adjustable="datalim")
+    axs[0, 0].set_xlabel("X [m]")
+    axs[0, 0].set_ylabel("Y [m]")
+    axs[0, 1].set_ylabel("speed [km/h]")
+    axs[1, 0].set_ylabel("yaw rate - v/R0 [deg/s] (+: turns in)")
+    axs[1, 1].set_ylabel("deceleration [m/s²]")
+    for ax in axs.ravel()[1:]:
+        ax.set_xlabel("time after brake onset [s]")
+    for ax in axs.ravel():
+        ax.legend(fontsize=7)
     fig.tight_layout()
     return fig

@@ -237,6 +237,8 @@ def _number(where: str, key: str, value, spec) -> float:
     v = float(value)
     if not math.isfinite(v) or v < lo or v > hi:
         hint = hint_lo if v < lo and lo > 0 and v > 0 else hint_hi if v > hi else ""
+        if key == "mass" and v < lo and not lo <= 1000.0 * v <= hi:
+            hint = ""                     # "tonnes?" only where the value in tonnes is a plausible mass
         raise ValueRangeError(f"{where}: {shown} = {value!r} is outside the accepted {lo:g} to {hi:g} {unit}"
                               + (f" ({hint})" if hint else ""))
     return v
