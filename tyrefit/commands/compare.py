@@ -86,6 +86,9 @@ def run(args) -> int:
     check_outputs(args)
     ta = read_tyre(args.tyre_a)
     tb = read_tyre(args.tyre_b)
+    for t in (ta, tb):  # how a file that does not declare its family was read (no [MODEL] section)
+        for note in getattr(t, "file_notes", []):
+            print(f"warning: {note}")
     from ..tyres.base import require_physical  # unphysical over the declared range: refused unless allowed
 
     for path, tyre in ((args.tyre_a, ta), (args.tyre_b, tb)):

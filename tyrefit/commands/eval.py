@@ -199,7 +199,7 @@ def run(args) -> int:
           f"({', '.join(OUTPUT_HEADERS[k] for k in tyre.outputs if k in res)})")
     for prob in problems:
         print(f"  warning (--allow-unphysical): {prob}")
-    for w in tyre.warnings():
+    for w in getattr(tyre, "file_notes", []) + tyre.warnings():
         print(f"  warning: {w}")
     for n in notes:
         print(f"  note: {n}")

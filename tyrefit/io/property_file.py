@@ -114,13 +114,66 @@ class PropertyFile:
         if declared in _FORMAT_FAMILY:
             return _FORMAT_FAMILY[declared]
         if f is None and declared in ("", "USER"):
-            if self.get("A0") is not None or self.get("A3") is not None:
-                return "PAC89"
-            if any(self.get(k) is not None for k in ("NOMPRES", "PKY4", "PPY1", "PPX1")):
-                return "MF61"
-            if self.get("PCY1") is not None or self.get("PCX1") is not None:
-                return "MF52"
+            return self._family_from_keys()[0]
         return ""
+
+    #: coefficient names that tell a family when the file does not declare one
+    _PAC89_KEYS = ("A0", "A3")
+    _MF_KEYS = ("PCY1", "PCX1", "PKY1", "PDY1", "PDX1", "QBZ1")
+    #: MF 6.1 terms the 5.2 equations do not have (non-zero), or NOMPRES; PHY3 (non-zero) is 5.2's camber term
+    _MF61_MARKERS = ("PKY4", "PKY6", "PKY7", "PPY5", "QSY5", "QSY6", "QSY7", "QSY8")
+    _MF52_MARKERS = ("PHY3",)
+
+    def _nonzero(self, keys) -> list[str]:
+        out = []
+        for k in keys:
+            v = self.get(k)
+            try:
+                if v is not None and float(v) != 0.0:
+                    out.append(k)
+            except (TypeError, ValueError):
+                out.append(k)
+        return out
+
+    def _family_from_keys(self) -> tuple[str, str]:
+        """(family, why) told from the coefficient names alone; family '' when they do not tell
+        (none of the names, PAC89's a0..a13 beside Magic Formula coefficients, or MF 6.1-only terms
+        beside MF 5.2's camber term PHY3)."""
+        pac = [k for k in self._PAC89_KEYS if self.get(k) is not None]
+        mf = [k for k in self._MF_KEYS if self.get(k) is not None]
+        if pac and mf:
+            return "", (f"it holds both PAC89 coefficients ({', '.join(pac)}) and Magic Formula ones "
+                        f"({', '.join(mf)})")
+        if pac:
+            return "PAC89", f"its PAC89 coefficients ({', '.join(pac)}, no Magic Formula ones)"
+        if not mf:
+            return "", "it holds none of PAC89's a0..a13 or the Magic Formula's PCY1, PCX1, PKY1"
+        m61 = self._nonzero(self._MF61_MARKERS) + (["NOMPRES"] if self.get("NOMPRES") is not None else [])
+        m52 = self._nonzero(self._MF52_MARKERS)
+        if m61 and m52:
+            return "", (f"it holds MF 6.1-only terms ({', '.join(m61)}) and MF 5.2's camber term PHY3, so it is "
+                        "neither MF 5.2 nor MF 6.1")
+        if m61:
+            return "MF61", f"its MF 6.1-only terms ({', '.join(m61)})"
+        if m52:
+            return "MF52", "its MF 5.2 camber term PHY3 (non-zero)"
+        return "MF52", ("its Magic Formula coefficients (MF 5.2 and 6.1 differ only in terms this file "
+                        "leaves out or at zero, so both give the same forces)")
+
+    def undeclared_family(self) -> tuple[str, str] | None:
+        """For a file with no ``[MODEL]`` section: (family or '', the one-line reason); else None."""
+        if "MODEL" in self.sections:
+            return None
+        f = self.fittyp
+        if f is not None:
+            fam = _FITTYP_FAMILY.get(f, "")
+            return fam, f"FITTYP = {f} found outside [MODEL]"
+        declared = str(self.get("PROPERTY_FILE_FORMAT") or "").strip().upper()
+        if declared in _FORMAT_FAMILY:
+            return _FORMAT_FAMILY[declared], f"PROPERTY_FILE_FORMAT = '{declared}' found outside [MODEL]"
+        if declared == "PAC89":
+            return "PAC89", "PROPERTY_FILE_FORMAT = 'PAC89' found outside [MODEL]"
+        return self._family_from_keys()
 
     def get(self, key: str, section: str | None = None, default=None):
         key = key.upper()

@@ -72,10 +72,19 @@ def read_tyre(path: str | os.PathLike) -> Tyre:
         return read_chrono_json(path)
     pf = read_property_file(path)
     fam = pf.family
-    if fam == "PAC89":
-        return pac89_from_property_file(pf)
-    if fam in ("MF52", "MF61"):
-        return mf_from_property_file(pf)
+    notes: list[str] = []
+    undeclared = pf.undeclared_family()
+    if undeclared is not None:
+        told, why = undeclared
+        if not told or told != fam:
+            raise FormatError(f"{path}: no [MODEL] section (PROPERTY_FILE_FORMAT or FITTYP), and the family "
+                              f"cannot be told: {why}; add [MODEL] with PROPERTY_FILE_FORMAT = 'PAC89' or "
+                              "FITTYP = 61 (MF 6.1) / 6 (MF 5.2)")
+        notes.append(f"{path}: no [MODEL] section (PROPERTY_FILE_FORMAT or FITTYP); read as {told} from {why}")
+    if fam in ("PAC89", "MF52", "MF61"):
+        tyre = pac89_from_property_file(pf) if fam == "PAC89" else mf_from_property_file(pf)
+        tyre.file_notes = notes
+        return tyre
     fmt = pf.format
     raise FormatError(f"{path}: cannot tell the tyre model: PROPERTY_FILE_FORMAT / FITTYP is "
                       f"{fmt[:40] or 'missing'!s}; accepted: PAC89, MF 5.x/PAC2002 (FITTYP 5, 6, 21, 'MF_05', "
