@@ -1688,7 +1688,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     # (a likelihood-ratio test at 5 %: the weighted SSE rises by < 3.84 s^2).  Two collinear terms (QSX3 against
     # the near-linear QSX4 sine of Fy) both have standard errors above their size while together they carry the
     # channel: holding the sine term of MFeval's Mx left 12 x the noise floor; that hold is refused and said
-    kept: set[str] = set()
+    kept: dict[str, str] = {}
     for _ in range(_MAX_HOLDS):
         weak = {k: v for k, v in _not_identified(prob, th, stderr).items() if k not in kept} \
             if stage.name != "Mz*" else {}
@@ -1705,15 +1705,17 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
         sse0, s2 = _weighted_sse(prob, th)
         sse1, _ = _weighted_sse(trial, th1)
         if not (sse1 - sse0 < _LR_CHI2 * s2):
-            kept.add(k)
-            notes.append(f"{stage.name}: {k} = {v:.4g} +- {se:.3g} kept: holding it at {n0:g} raises the weighted "
-                         f"error by {(sse1 - sse0) / s2:.1f} noise variances (it is determined together with others)")
+            kept[k] = f"{k} = {v:.4g} +- {se:.3g}"
             continue
         why[k] = f"not identified: standard error {se:.3g} >= |value| {abs(v):.3g}; held at its neutral value {n0:g}"
         want, prob, th = rest, trial, th1
         stderr = _stderr(prob, th, len(pts_p)) if want else {}
         if not want:
             break
+    if kept:
+        notes.append(f"{stage.name}: kept though each one's standard error exceeds its size (holding any raises the "
+                     f"error beyond the noise, a likelihood-ratio test at 5 %: they are determined together): "
+                     + ", ".join(kept.values()))
     fitted = prob.params(th)
     p.update({k: fitted[k] for k in names if k in fitted})
     facts["r2"] = _r2(stage, pts, fitted, nominal, version)
