@@ -95,6 +95,12 @@ def _allow_unphysical(p: argparse.ArgumentParser) -> None:
                    help="evaluate a tyre file even if its model is unphysical over its declared range")
 
 
+def _allow_mirrored(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--allow-mirrored", action="store_true",
+                   help="fit (inspect: do not list as a problem) data whose camber thrust, pneumatic trail or Fx "
+                        "has the sign of a mirrored tyre")
+
+
 def build_parser() -> argparse.ArgumentParser:
     common = _common()
     parser = _Parser(prog="tyrefit", description="Tyre rig data to Pacejka '89 tyre models.")
@@ -127,6 +133,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", metavar="CHRONO.json", help="also write Chrono's PAC89 JSON")
     p.add_argument("--report", metavar="DIR")
     _convention(p)
+    _allow_mirrored(p)
 
     p = sub.add_parser("eval", parents=[common], help="a tyre file's forces at the points of a CSV (any family)")
     p.add_argument("tyre", metavar="TYRE")
@@ -207,6 +214,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", metavar="FILE")
     p.add_argument("--json", metavar="OUT.json")
     _convention(p)
+    _allow_mirrored(p)
 
     p = sub.add_parser("demo", parents=[common], help="run the main job on the bundled data")
     p.add_argument("--out", default="reports/demo", metavar="DIR")

@@ -31,6 +31,15 @@ def _read(path, convention, kind=None):
     return read_data(path, convention=convention, kind=kind) if kind else read_data(path, convention=convention)
 
 
+def check_mirror(ds, args) -> None:
+    """Refuse a mirrored tyre (camber thrust, pneumatic trail or Fx of the wrong sign) unless
+    ``--allow-mirrored``; with it, print the findings as warnings (:mod:`tyrefit.io.plausibility`)."""
+    from ..io.plausibility import check_mirrored
+
+    for m in check_mirrored(ds, allow=bool(getattr(args, "allow_mirrored", False))):
+        print(f"  WARNING (--allow-mirrored): {m}")
+
+
 def _resolver():
     try:
         from ..effects import resolve_pac89
@@ -95,6 +104,7 @@ def fit_file(args, ds=None):
     size = _size_and_load(args)
     if ds is None:
         ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
+        check_mirror(ds, args)
     notes += [f"dropped {n} samples: {why}" for why, n in ds.meta.get("dropped", {}).items()]
     sfi = None
     if ds.kind == "static":
@@ -323,6 +333,7 @@ def _run_by(args, out: Path) -> int:
 
     ch = args.by
     ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
+    check_mirror(ds, args)
     if ds.kind not in ("slip_angle", "slip_ratio"):
         raise DataError(f"{ds.source}: --by {ch} splits dynamic-rig sweeps; this file is a {ds.kind} test")
     if ch not in ds.df or not ds.df[ch].notna().any():

@@ -61,6 +61,9 @@ def fit_mf_files(args, datas):
         if ds.kind not in ("slip_angle", "slip_ratio"):
             raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a Magic Formula tyre; it needs "
                             "slip-angle or slip-ratio sweeps from a dynamic rig")
+        from .fit import check_mirror
+
+        check_mirror(ds, args)
         sets.append(ds)
     data = prepare_mf_data(sets)
     info = {"name": Path(datas[0]).stem}

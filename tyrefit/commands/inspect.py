@@ -33,16 +33,16 @@ from ..tyres.pac89 import CHRONO_LIMITS
 __all__ = ["run", "inspect_file", "inspect_data", "inspect_tyre", "format_summary"]
 
 
-def inspect_file(path: str | Path, convention: str = "iso") -> dict[str, Any]:
+def inspect_file(path: str | Path, convention: str = "iso", allow_mirrored: bool = False) -> dict[str, Any]:
     """Summary dict of a data or tyre file (the ``--json`` document)."""
     p = Path(path)
     fmt = sniff_format(p)
     if fmt in ("tir", "chrono_json"):
         return inspect_tyre(p, fmt)
-    return inspect_data(read_data(p, convention=convention, checks=False))
+    return inspect_data(read_data(p, convention=convention, checks=False), allow_mirrored=allow_mirrored)
 
 
-def inspect_data(ds: Dataset) -> dict[str, Any]:
+def inspect_data(ds: Dataset, allow_mirrored: bool = False) -> dict[str, Any]:
     """Summary dict of a read :class:`Dataset`."""
     df = ds.df
     out: dict[str, Any] = {
@@ -76,6 +76,12 @@ def inspect_data(ds: Dataset) -> dict[str, Any]:
         if key in ds.meta:
             out[key] = ds.meta[key]
     out["problems"] = plausibility_problems(ds)  # what fit/diagnose would refuse, said instead of refused
+    from ..io.plausibility import mirrored_findings
+
+    mirrored = [f.message for f in mirrored_findings(ds)]  # fit refuses these unless --allow-mirrored
+    out["mirrored"] = mirrored
+    if not allow_mirrored:
+        out["problems"] = out["problems"] + [m + " (fit refuses this unless --allow-mirrored)" for m in mirrored]
     return out
 
 
@@ -268,6 +274,9 @@ def format_summary(s: dict[str, Any]) -> str:
         lines.append("dropped: " + "; ".join(f"{v} {k}" for k, v in s["dropped"].items()))
     for problem in s.get("problems", []):
         lines.append(f"PROBLEM (fit and diagnose refuse this file): {problem}")
+    if s.get("mirrored") and not any(m in p for m in s["mirrored"] for p in s.get("problems", [])):
+        for m in s["mirrored"]:
+            lines.append(f"WARNING (--allow-mirrored): {m}")
     return "\n".join(lines)
 
 
@@ -278,7 +287,8 @@ def run(args) -> int:
         check_output(out, args.force)
         if Path(out).resolve() == Path(args.file).resolve():
             raise FormatError(f"{out}: the --json output is the file being inspected; choose another name")
-    summary = inspect_file(args.file, convention=getattr(args, "convention", "iso"))
+    summary = inspect_file(args.file, convention=getattr(args, "convention", "iso"),
+                           allow_mirrored=bool(getattr(args, "allow_mirrored", False)))
     print(format_summary(summary))
     if summary.get("kind") == "tyre" and summary.get("missing"):
         raise ModelError(f"{args.file}: incomplete {summary['family']} tyre: missing "
