@@ -39,6 +39,14 @@ scipy stopped by its 127 s budget at 1.78 x the staged fit's cost (67.9 s CPU): 
 (process-time profile): the trust-region SVDs of SciPy's ``trf`` (~5 s CPU, 4 of them the joint polish's
 54 000 x 100 Jacobian), the variable projection's grid of the Mx stage, the statistics' condition table.
 
+With the physical-validity contract (2026-11-27, after the commit "Mx/My variable projection"): the
+published pair 17.3 s CPU / 24.0 s wall against FAST = False 27.0 / 48.9 (load 2-3), RMSE fx 151.3, fy 85.4
+(the contract holds RHY1/RHY2 at 0; that tyre's G_yk reaches 1.03), mz 3.22, mx 2.01; plain scipy >= 4.1 x
+in CPU.  ``TYREFIT_BENCH_PAIR=field`` (tyrefit.synthetic.ttc_field, 136 060 samples): 24.3 s CPU / 24.4 s wall
+(load 1.5) against FAST = False 37.0 / 37.2; plain scipy >= 3.2 x in CPU.  The code before this session fitted
+the field pair in 81.9 s CPU (in process, same data, measured beside it; RMSE fx 45.64, fy 51.30, mz 12.78,
+mx 3.35 against 45.69, 52.94, 12.78, 3.36 now) and wrote a file that breaks the contract six times.
+
 ``python -m benchmarks.bench_fit_mf`` prints the dict.
 """
 
