@@ -31,14 +31,14 @@ import pandas as pd
 
 from .. import nomenclature as nm
 from ..errors import ColumnError, DataError
-from ..io.outputs import check_output, write_text
+from ..io.outputs import check_output
 
 try:  # fast shortest round-trip float text for the output CSV (optional: repr does the same, slower)
     import orjson as _orjson
 except ImportError:  # pragma: no cover - depends on the environment
     _orjson = None
 
-__all__ = ["run", "read_points", "evaluate_points", "csv_text"]
+__all__ = ["run", "read_points", "evaluate_points", "point_notes", "write_forces", "csv_text", "CHUNK"]
 
 #: point columns and their defaults ('nominal': the tyre's nominal value)
 POINT_COLUMNS = {"fz": None, "slip_angle": 0.0, "slip_ratio": 0.0, "camber": 0.0, "pressure": "nominal",
@@ -99,16 +99,24 @@ _DOMAIN = {"fz": (-np.inf, np.inf, "any load"),
            "speed": (0.0, np.inf, "forward speeds >= 0")}
 
 
+def _forces(tyre, si: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    kw = {k: si.get(k, d if d != "nominal" else None) for k, d in POINT_COLUMNS.items()}
+    return tyre.forces(kw["fz"], slip_angle=kw["slip_angle"], slip_ratio=kw["slip_ratio"], camber=kw["camber"],
+                       pressure=kw["pressure"], speed=kw["speed"])
+
+
 def evaluate_points(tyre, si: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], list[str]]:
     """Forces at the points (one vectorised call) and notes for the user."""
+    return _forces(tyre, si), point_notes(tyre, si)
+
+
+def point_notes(tyre, si: dict[str, np.ndarray]) -> list[str]:
+    """What the user should know about evaluating ``tyre`` at the points ``si`` (no forces computed)."""
     notes: list[str] = []
-    kw = {k: si.get(k, d if d != "nominal" else None) for k, d in POINT_COLUMNS.items()}
     if tyre.family == "PAC89":
         for k in ("pressure", "speed"):
             if k in si:
                 notes.append(f"PAC89 has no {k} dependence: the {k} column does not change the forces")
-    res = tyre.forces(kw["fz"], slip_angle=kw["slip_angle"], slip_ratio=kw["slip_ratio"], camber=kw["camber"],
-                      pressure=kw["pressure"], speed=kw["speed"])
     for part, key in (("longitudinal", "fx"), ("lateral", "fy"), ("aligning", "mz")):
         if not getattr(tyre, f"has_{part}"):
             notes.append(f"the tyre has no {part} model: '{OUTPUT_HEADERS[key]}' is left empty")
@@ -126,7 +134,44 @@ def evaluate_points(tyre, si: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarr
             if out and (k in getattr(tyre, "ranges", {}) or k == "fz"):
                 notes.append(f"{out} of {x.size} points have {k} outside the tyre's range "
                              f"{_display(k, lo)}..{_display(k, hi)} (extrapolated)")
-    return res, notes
+    return notes
+
+
+#: points evaluated and written per chunk: the output text of one chunk (a Python string per cell) is
+#: what eval holds at once, about 0.15 GB at 5 columns; the forces are elementwise, so the file is the
+#: same byte for byte at any chunk size
+CHUNK = 100_000
+
+
+def write_forces(out, tyre, si: dict[str, np.ndarray], table, force: bool = False,
+                 chunk: int | None = None) -> list[str]:
+    """Evaluate ``tyre`` at the points ``si`` chunk by chunk and write the input columns and the forces to
+    ``out`` (atomically); return the output headers written."""
+    from ..io.outputs import atomic_write
+
+    n = len(next(iter(si.values()))) if si else 0
+    chunk = max(int(CHUNK if chunk is None else chunk), 1)
+    written: list[str] = []
+    with atomic_write(out, "w", force=force, encoding="utf-8", newline="\n") as fh:
+        for start in range(0, max(n, 1), chunk):
+            sl = slice(start, min(start + chunk, n))
+            res = _forces(tyre, {k: v[sl] for k, v in si.items()})
+            cols: dict[str, object] = {}
+            for name, values in table.values.items():
+                cols[table.headers[name]] = values[sl]
+            for k in tyre.outputs:
+                if k in res:
+                    cols[OUTPUT_HEADERS[k]] = np.asarray(res[k], dtype=float)
+            df = pd.DataFrame(cols)
+            text = csv_text(df)
+            if start:
+                header = df.head(0).to_csv(index=False, lineterminator="\n")
+                text = text[len(header):] if text.startswith(header) else text
+            else:
+                written = [OUTPUT_HEADERS[k] for k in tyre.outputs if k in res]
+            fh.write(text)
+            del text, df, cols, res
+    return written
 
 
 def csv_text(df: pd.DataFrame) -> str:
@@ -186,17 +231,9 @@ def run(args) -> int:
     tyre = read_tyre(args.tyre)
     problems = require_physical(tyre, str(args.tyre), allow_unphysical=getattr(args, "allow_unphysical", False))
     si, table = read_points(args.points)
-    res, notes = evaluate_points(tyre, si)
-    cols: dict[str, object] = {}
-    for name, values in table.values.items():
-        cols[table.headers[name]] = values
-    for k in tyre.outputs:
-        if k in res:
-            cols[OUTPUT_HEADERS[k]] = np.asarray(res[k], dtype=float)
-    df = pd.DataFrame(cols)
-    write_text(out, csv_text(df), force=args.force)
-    print(f"wrote {out}: {len(df)} points, {tyre.family} tyre {tyre.name!r} "
-          f"({', '.join(OUTPUT_HEADERS[k] for k in tyre.outputs if k in res)})")
+    notes = point_notes(tyre, si)
+    headers = write_forces(out, tyre, si, table, force=args.force)
+    print(f"wrote {out}: {len(si['fz'])} points, {tyre.family} tyre {tyre.name!r} ({', '.join(headers)})")
     for prob in problems:
         print(f"  warning (--allow-unphysical): {prob}")
     for w in getattr(tyre, "file_notes", []) + tyre.warnings():
