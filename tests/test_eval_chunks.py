@@ -69,3 +69,36 @@ def test_empty_points_file_writes_the_header(tmp_path, capsys):
     capsys.readouterr()
     if rc == 0:
         assert (tmp_path / "o.csv").read_text().splitlines()[0].startswith("fz [N],slip_angle [deg]")
+
+
+def test_plain_file_streams_and_odd_files_are_read_whole_with_the_same_bytes(tmp_path, points, monkeypatch):
+    """A plain numeric CSV never goes through read_points (bounded memory); a file with a comment, a blank
+    line or a quoted header is read whole; both write the same bytes."""
+    tyre = str(DATA / TYRES[1])
+    whole = []
+    real = ev.read_points
+    monkeypatch.setattr(ev, "read_points", lambda p: (whole.append(p), real(p))[1])
+    monkeypatch.setattr(ev, "CHUNK", 500)
+    assert main(["eval", tyre, "--points", str(points), "--out", str(tmp_path / "a.csv"), "--allow-unphysical"]) == 0
+    assert whole == []
+    lines = points.read_text().splitlines()
+    odd = tmp_path / "odd.csv"
+    odd.write_text("# a comment\n" + lines[0] + "\n" + "\n".join(lines[1:1000]) + "\n\n" + "\n".join(lines[1000:]) + "\n")
+    assert main(["eval", tyre, "--points", str(odd), "--out", str(tmp_path / "b.csv"), "--allow-unphysical"]) == 0
+    assert whole == [str(odd)]
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
+
+
+def test_bad_value_late_in_a_streamed_file_names_its_line_and_writes_nothing(tmp_path, points, monkeypatch, capsys):
+    monkeypatch.setattr(ev, "CHUNK", 500)
+    lines = points.read_text().splitlines()
+    cells = lines[2000].split(",")
+    cells[1] = "120"  # a slip angle beyond 90 deg, in the fifth chunk
+    lines[2000] = ",".join(cells)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "o.csv"
+    assert main(["eval", str(DATA / TYRES[0]), "--points", str(bad), "--out", str(out), "--allow-unphysical"]) == 2
+    err = capsys.readouterr().err
+    assert "line 2001" in err and "slip_angle" in err and len(err.strip().splitlines()) == 1
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["bad.csv"]

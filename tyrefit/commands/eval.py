@@ -60,34 +60,39 @@ def read_points(path: str | Path):
 
     p = Path(path)
     t = parse_csv(p, _decode(p, _read_bytes(p)))
+    return _points_si(p, t.values, t.units, t.headers, t.lines), t
+
+
+def _points_si(p: Path, values: dict, units: dict, headers: dict, lines) -> dict[str, np.ndarray]:
+    """SI arrays of the point columns from the columns as read; DataError naming the line of a bad value."""
     si: dict[str, np.ndarray] = {}
     for name in POINT_COLUMNS:
         col = name
-        if name == "fz" and "fz" not in t.values and "load" in t.values:
+        if name == "fz" and "fz" not in values and "load" in values:
             col = "load"  # a load set point [kg] or [N]
-        if col not in t.values:
+        if col not in values:
             continue
-        v = t.values[col]
+        v = values[col]
         if v.dtype == object:
-            raise DataError(f"{p}: column '{t.headers[col]}' holds text; numbers are needed")
-        unit = t.units.get(col)
+            raise DataError(f"{p}: column '{headers[col]}' holds text; numbers are needed")
+        unit = units.get(col)
         si[name] = np.asarray(nm.to_si(v, unit) if unit else v, dtype=float)
     if "fz" not in si:
         raise ColumnError(f"{p}: no 'fz [N]' column; the points need the normal load (accepted: fz, load with a "
                           "force or mass unit)")
     if "slip_angle" not in si and "slip_ratio" not in si:
         raise ColumnError(f"{p}: no 'slip_angle [deg]' or 'slip_ratio [-]' column; give the slip of each point")
-    for name, values in si.items():
-        col = "load" if name == "fz" and "fz" not in t.headers else name
+    for name, x in si.items():
+        col = "load" if name == "fz" and "fz" not in headers else name
         lo, hi, what = _DOMAIN[name]
-        bad = ~(np.isfinite(values) & (values >= lo) & (values <= hi))
+        bad = ~(np.isfinite(x) & (x >= lo) & (x <= hi))
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
-            raw = t.values[col][i]
-            raise DataError(f"{p}: line {t.lines[i]}, column '{t.headers.get(col, col)}': {float(raw):g} is "
-                            f"{'not finite' if not np.isfinite(values[i]) else 'outside ' + what}"
+            raw = values[col][i]
+            raise DataError(f"{p}: line {lines[i]}, column '{headers.get(col, col)}': {float(raw):g} is "
+                            f"{'not finite' if not np.isfinite(x[i]) else 'outside ' + what}"
                             + (f" ({int(bad.sum())} such rows)" if bad.sum() > 1 else ""))
-    return si, t
+    return si
 
 
 #: the domain of each point column (SI): what a rolling tyre can be asked
@@ -112,28 +117,45 @@ def evaluate_points(tyre, si: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarr
 
 def point_notes(tyre, si: dict[str, np.ndarray]) -> list[str]:
     """What the user should know about evaluating ``tyre`` at the points ``si`` (no forces computed)."""
-    notes: list[str] = []
-    if tyre.family == "PAC89":
-        for k in ("pressure", "speed"):
-            if k in si:
-                notes.append(f"PAC89 has no {k} dependence: the {k} column does not change the forces")
-    for part, key in (("longitudinal", "fx"), ("lateral", "fy"), ("aligning", "mz")):
-        if not getattr(tyre, f"has_{part}"):
-            notes.append(f"the tyre has no {part} model: '{OUTPUT_HEADERS[key]}' is left empty")
-    if not tyre.combined and "slip_angle" in si and "slip_ratio" in si and \
-            np.any((si["slip_angle"] != 0) & (si["slip_ratio"] != 0)):
-        notes.append(f"{tyre.family} has no combined slip: Fx depends on the slip ratio only, Fy and Mz on the slip "
-                     "angle only")
+    return _notes(tyre, _note_stats(tyre, si))
+
+
+def _note_stats(tyre, si: dict[str, np.ndarray], stats: dict | None = None) -> dict:
+    """Add the counts :func:`_notes` needs for the points ``si`` to ``stats`` (chunk by chunk)."""
+    st = stats if stats is not None else {"columns": set(), "n": 0, "combined": False, "outside": {}}
+    st["columns"] |= set(si)
+    st["n"] += len(si["fz"]) if "fz" in si else 0
+    if "slip_angle" in si and "slip_ratio" in si:
+        st["combined"] = st["combined"] or bool(np.any((si["slip_angle"] != 0) & (si["slip_ratio"] != 0)))
     v = tyre.validity()
     for k in ("fz", "slip_angle", "slip_ratio", "camber"):
         if k in si and k in v:
             lo, hi = v[k]
             x = si[k]
             tol = 1e-9 * max(abs(lo), abs(hi), 1.0)
-            out = int(np.sum((x < lo - tol) | (x > hi + tol)))
-            if out and (k in getattr(tyre, "ranges", {}) or k == "fz"):
-                notes.append(f"{out} of {x.size} points have {k} outside the tyre's range "
-                             f"{_display(k, lo)}..{_display(k, hi)} (extrapolated)")
+            st["outside"][k] = st["outside"].get(k, 0) + int(np.sum((x < lo - tol) | (x > hi + tol)))
+    return st
+
+
+def _notes(tyre, st: dict) -> list[str]:
+    notes: list[str] = []
+    if tyre.family == "PAC89":
+        for k in ("pressure", "speed"):
+            if k in st["columns"]:
+                notes.append(f"PAC89 has no {k} dependence: the {k} column does not change the forces")
+    for part, key in (("longitudinal", "fx"), ("lateral", "fy"), ("aligning", "mz")):
+        if not getattr(tyre, f"has_{part}"):
+            notes.append(f"the tyre has no {part} model: '{OUTPUT_HEADERS[key]}' is left empty")
+    if not tyre.combined and st["combined"]:
+        notes.append(f"{tyre.family} has no combined slip: Fx depends on the slip ratio only, Fy and Mz on the slip "
+                     "angle only")
+    v = tyre.validity()
+    for k in ("fz", "slip_angle", "slip_ratio", "camber"):
+        out = st["outside"].get(k, 0)
+        if out and k in v and (k in getattr(tyre, "ranges", {}) or k == "fz"):
+            lo, hi = v[k]
+            notes.append(f"{out} of {st['n']} points have {k} outside the tyre's range "
+                         f"{_display(k, lo)}..{_display(k, hi)} (extrapolated)")
     return notes
 
 
@@ -162,15 +184,10 @@ def write_forces(out, tyre, si: dict[str, np.ndarray], table, force: bool = Fals
             for k in tyre.outputs:
                 if k in res:
                     cols[OUTPUT_HEADERS[k]] = np.asarray(res[k], dtype=float)
-            df = pd.DataFrame(cols)
-            text = csv_text(df)
-            if start:
-                header = df.head(0).to_csv(index=False, lineterminator="\n")
-                text = text[len(header):] if text.startswith(header) else text
-            else:
+            if not start:
                 written = [OUTPUT_HEADERS[k] for k in tyre.outputs if k in res]
-            fh.write(text)
-            del text, df, cols, res
+            fh.write(_chunk_text(pd.DataFrame(cols), not start))
+            del cols, res
     return written
 
 
@@ -210,6 +227,89 @@ def csv_text(df: pd.DataFrame) -> str:
     return header + "\n".join(map(",".join, zip(*columns))) + "\n"
 
 
+class _NotPlain(Exception):
+    """The points file is not a plain numeric CSV: read it whole (its messages name lines and columns)."""
+
+
+def _chunk_text(df: pd.DataFrame, first: bool) -> str:
+    text = csv_text(df)
+    if not first:
+        header = df.head(0).to_csv(index=False, lineterminator="\n")
+        text = text[len(header):] if text.startswith(header) else text
+    return text
+
+
+def stream_forces(out, tyre, points, force: bool = False, chunk: int | None = None) -> tuple[int, list[str], list[str]]:
+    """Read a plain numeric points CSV chunk by chunk, evaluate and write each chunk (bounded memory: the
+    points file is never held whole).  Returns (points, output headers, notes).  Raises :class:`_NotPlain`
+    (nothing written) for anything else - comments or blank lines after the header, quoted or text cells,
+    a value outside its domain - which :func:`read_points` then reads whole and names precisely."""
+    import csv as _csv
+    import io as _io
+
+    from ..io.inputs import check_input
+    from ..io.outputs import atomic_write
+    from ..io.table import map_headers
+
+    p = check_input(points, "a data file (CSV, TYDEX .tdx or FSAE TTC .dat)")
+    chunk = max(int(CHUNK if chunk is None else chunk), 1)
+    try:
+        with open(p, encoding="utf-8-sig", newline="") as fh:
+            skip = 0
+            header_line = None
+            for line in fh:
+                skip += 1
+                st = line.strip()
+                if st and not st.startswith("#"):
+                    header_line = line.rstrip("\r\n")
+                    break
+                if skip > 1000:
+                    break
+    except (OSError, UnicodeDecodeError, ValueError):
+        raise _NotPlain from None
+    if header_line is None or '"' in header_line or "'" in header_line or "\x00" in header_line:
+        raise _NotPlain
+    delim = "\t" if "\t" in header_line else (";" if header_line.count(";") > header_line.count(",") else ",")
+    header = [h.strip() for h in header_line.split(delim)]
+    try:
+        names, units_l, _ = map_headers(p, header)
+    except DataError:
+        raise _NotPlain from None
+    units, headers = dict(zip(names, units_l)), dict(zip(names, header))
+    stats = None
+    n = 0
+    written: list[str] = []
+    try:
+        with atomic_write(out, "w", force=force, encoding="utf-8", newline="\n") as fh:
+            reader = pd.read_csv(p, sep=delim, header=None, skiprows=skip, dtype=float, engine="c",
+                                 skip_blank_lines=False, chunksize=chunk, encoding="utf-8-sig")
+            for part in reader:
+                arr = part.to_numpy()
+                if arr.shape[1] != len(names) or np.isnan(arr).any():
+                    raise _NotPlain
+                values = {name: np.ascontiguousarray(arr[:, j]) for j, name in enumerate(names)}
+                try:
+                    si = _points_si(p, values, units, headers, np.arange(arr.shape[0]))
+                except DataError:
+                    raise _NotPlain from None
+                stats = _note_stats(tyre, si, stats)
+                res = _forces(tyre, si)
+                cols: dict[str, object] = {headers[name]: values[name] for name in names}
+                for k in tyre.outputs:
+                    if k in res:
+                        cols[OUTPUT_HEADERS[k]] = np.asarray(res[k], dtype=float)
+                if n == 0:
+                    written = [OUTPUT_HEADERS[k] for k in tyre.outputs if k in res]
+                fh.write(_chunk_text(pd.DataFrame(cols), n == 0))
+                n += arr.shape[0]
+            if n == 0:
+                raise _NotPlain
+    except (ValueError, TypeError, UnicodeDecodeError, pd.errors.ParserError, _csv.Error, OverflowError,
+            pd.errors.EmptyDataError, _io.UnsupportedOperation):
+        raise _NotPlain from None
+    return n, written, _notes(tyre, stats)
+
+
 def _display(k: str, x: float) -> str:
     if k in ("slip_angle", "camber"):
         return f"{np.degrees(x):.3g} deg"
@@ -230,10 +330,14 @@ def run(args) -> int:
             raise DataError(f"--out {out}: the output is an input file; choose another name")
     tyre = read_tyre(args.tyre)
     problems = require_physical(tyre, str(args.tyre), allow_unphysical=getattr(args, "allow_unphysical", False))
-    si, table = read_points(args.points)
-    notes = point_notes(tyre, si)
-    headers = write_forces(out, tyre, si, table, force=args.force)
-    print(f"wrote {out}: {len(si['fz'])} points, {tyre.family} tyre {tyre.name!r} ({', '.join(headers)})")
+    try:  # a plain numeric CSV streams through in chunks; anything else is read whole
+        n, headers, notes = stream_forces(out, tyre, args.points, force=args.force)
+    except _NotPlain:
+        si, table = read_points(args.points)
+        notes = point_notes(tyre, si)
+        headers = write_forces(out, tyre, si, table, force=args.force)
+        n = len(si["fz"])
+    print(f"wrote {out}: {n} points, {tyre.family} tyre {tyre.name!r} ({', '.join(headers)})")
     for prob in problems:
         print(f"  warning (--allow-unphysical): {prob}")
     for w in getattr(tyre, "file_notes", []) + tyre.warnings():
