@@ -927,10 +927,96 @@ def _cases_eval() -> list[Case]:
     return C
 
 
+def _jitter(text: str, how: str) -> str:
+    """A logged record with one repeated time ('repeat') or two swapped samples ('swap') mid-record."""
+    lines = text.splitlines()
+    i = len(lines) // 2
+    if how == "repeat":
+        cells = lines[i].split(",")
+        cells[0] = lines[i - 1].split(",")[0]
+        lines[i] = ",".join(cells)
+    else:
+        lines[i], lines[i + 1] = lines[i + 1], lines[i]
+    return "\n".join(lines) + "\n"
+
+
+def _camber_negated(path: Path):
+    text = (DATA / "passenger" / "passenger_205_55R16.csv").read_text()
+    rows = text.splitlines()
+    k = next(i for i, r in enumerate(rows) if r and not r.startswith("#"))
+    col = rows[k].split(",").index("camber [deg]")
+    out = rows[:k + 1]
+    for r in rows[k + 1:]:
+        c = r.split(",")
+        if len(c) > col and c[col]:
+            c[col] = repr(-float(c[col]))
+        out.append(",".join(c))
+    path.write_text("\n".join(out) + "\n")
+
+
+def _no_model(src: str, extra: str = ""):
+    def make(path: Path):
+        out, skip = [], False
+        for line in (ROOT / "tests" / "data" / src).read_text(encoding="latin-1").splitlines(keepends=True):
+            if line.strip().startswith("["):
+                skip = line.strip().upper().startswith("[MODEL")
+            if not skip:
+                out.append(line)
+        path.write_text("".join(out) + extra, encoding="latin-1")
+    return make
+
+
+def _cases_issue25() -> list[Case]:
+    """Issue 25: scheduler addresses, trailing slash, long names, units, jittered records, long load
+    programmes, tyre files without [MODEL], mirrored tyres."""
+    C = []
+    add = C.append
+    b = ["batch", "fit", "{d}/db", "--out", "{d}/o", "--workers", "1", "--scheduler"]
+    one = {"db": _dir, "db/a.csv": GOOD}
+    for addr in ("tls://127.0.0.1:1", "ucx://127.0.0.1:1", "inproc://x", "file:///etc/passwd", "tcp://[::1",
+                 "127.0.0.1:notaport", "tcp://127.0.0.1:1"):
+        add(Case(f"batch fit --scheduler {addr}", "batch fit", b + [addr], one, "error", r"(?i)scheduler",
+                 timeout=20, origin="issue 25", fast=addr in ("tls://127.0.0.1:1", "tcp://[::1")))
+    add(Case("batch fit --scheduler '' runs locally", "batch fit", b + [""], one, "ok", check=_batch_ok(1),
+             timeout=240, origin="issue 25"))
+    add(Case("inspect --json with a trailing slash", "inspect", ["inspect", "{d}/d.csv", "--json", "{d}/out/"],
+             {"d.csv": GOOD}, "error", r"(?i)folder", origin="issue 25", fast=True))
+    long = "n" * 250 + ".json"
+    add(Case("inspect --json with a 255-byte name", "inspect", ["inspect", "{d}/d.csv", "--json", "{d}/" + long],
+             {"d.csv": GOOD}, "ok", check=_exists(long), origin="issue 25", fast=True))
+    add(Case("inspect --json 255-byte name, --force over it", "inspect",
+             ["inspect", "{d}/d.csv", "--json", "{d}/" + long, "--force"], {"d.csv": GOOD, long: "{}\n"}, "ok",
+             check=_exists(long), may_change=(long,), origin="issue 25"))
+    add(Case("fit units [º] and [daN]", "fit", ["fit", "{d}/d.csv", "--out", "{d}/t.tir"],
+             {"d.csv": sweeps_csv(header=("run", "slip_angle [º]", "fy [daN]", "fz [daN]"), scale=(1, 1, 0.1, 0.1))},
+             "ok", check=_fit_ok(), origin="issue 25", fast=True))
+    add(Case("fit record with a repeated timestamp", "fit", ["fit", "{d}/r.csv", "--out", "{d}/t.tir"],
+             {"r.csv": _jitter(record_csv(), "repeat")}, "ok", check=_fit_ok(), timeout=240, origin="issue 25"))
+    add(Case("fit record with two swapped samples", "fit", ["fit", "{d}/r.csv", "--out", "{d}/t.tir"],
+             {"r.csv": _jitter(record_csv(), "swap")}, "ok", check=_fit_ok(), timeout=240, origin="issue 25"))
+    add(Case("fit 40-level load programme", "fit", ["fit", "{d}/d.csv", "--out", "{d}/t.tir"],
+             {"d.csv": sweeps_csv(loads=tuple(np.linspace(1500, 7000, 40)))}, "ok", check=_exists("t.tir"),
+             timeout=240, origin="issue 25"))
+    add(Case("compare .tir without [MODEL]", "compare",
+             ["compare", "{d}/a.tir", "{d}/b.tir", "--json", "{d}/c.json", "--allow-unphysical"],
+             {"a.tir": _no_model("ref_adams_pac89_example.tir"), "b.tir": _no_model("ref_HMMWV_Pac02Tire.tir")},
+             "ok", check=_exists("c.json"), origin="issue 25", fast=True))
+    add(Case("compare .tir without [MODEL], family unclear", "compare", ["compare", "{d}/a.tir", "{d}/a.tir"],
+             {"a.tir": _no_model("ref_HMMWV_Pac02Tire.tir", "[EXTRA]\nA0 = 1.6\nA3 = 1000\n")}, "error",
+             r"\[MODEL\]", origin="issue 25"))
+    add(Case("fit camber-mirrored passenger tyre", "fit", ["fit", "{d}/d.csv", "--out", "{d}/t.tir"],
+             {"d.csv": _camber_negated}, "error", r"(?i)camber thrust.*--allow-mirrored", origin="issue 25",
+             fast=True))
+    add(Case("fit camber-mirrored, --allow-mirrored", "fit",
+             ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--allow-mirrored"], {"d.csv": _camber_negated}, "ok",
+             check=_exists("t.tir"), origin="issue 25"))
+    return C
+
+
 def all_cases() -> list[Case]:
     """Every case of the corpus (names are unique)."""
     cases = _cases_fit() + _cases_inputs() + _cases_commands() + _cases_batch() + _batch_stale_cases() \
-        + _cases_eval()
+        + _cases_eval() + _cases_issue25()
     names = [c.name for c in cases]
     dup = {n for n in names if names.count(n) > 1}
     assert not dup, dup
