@@ -327,7 +327,13 @@ def test_result_contents(lateral_fit, lateral):
 def test_result_plots_and_report(lateral_fit, tmp_path):
     import matplotlib.pyplot as plt
 
-    ax = lateral_fit.plot()
+    # without an Axes: a pyplot figure, one panel per condition level (an array of Axes when several)
+    axes = np.atleast_1d(lateral_fit.plot()).ravel()
+    assert plt.get_fignums() and axes[0].get_xlabel().startswith("slip angle")
+    shown = [a for a in axes if a.get_visible()]
+    assert sum(len(a.lines) for a in shown) >= 8 and len(shown) == len(lateral_fit.facets(lateral_fit.parts[0])[0])
+    plt.close("all")
+    ax = lateral_fit.plot(plt.figure().subplots())  # an Axes: one condition level drawn on it
     assert ax.get_xlabel().startswith("slip angle") and len(ax.lines) >= 8
     ax2 = lateral_fit.plot_residuals()
     assert ax2 is not None

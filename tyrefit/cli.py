@@ -247,7 +247,7 @@ def _module_for(args: argparse.Namespace) -> str:
 
 
 def _version() -> str:
-    from . import __version__
+    from ._version import __version__
 
     return f"tyrefit {__version__}"
 

@@ -56,8 +56,8 @@ def fit_mf_files(args, datas):
 
     conv = getattr(args, "convention", "iso") or "iso"
     sets = []
-    for path in datas:
-        ds = read_data(path, convention=conv)
+    for path in datas:  # paths, or records already read (tyrefit.fit with Dataset objects)
+        ds = path if hasattr(path, "df") and hasattr(path, "kind") else read_data(path, convention=conv)
         if ds.kind not in ("slip_angle", "slip_ratio"):
             raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a Magic Formula tyre; it needs "
                             "slip-angle or slip-ratio sweeps from a dynamic rig")
@@ -66,7 +66,7 @@ def fit_mf_files(args, datas):
         check_mirror(ds, args)
         sets.append(ds)
     data = prepare_mf_data(sets)
-    info = {"name": Path(datas[0]).stem}
+    info = {"name": Path(str(getattr(datas[0], "source", datas[0]))).stem}
     size = size_and_rated_load(getattr(args, "size", None), getattr(args, "rated_load", None))
     if getattr(args, "rated_load", None) is not None:
         info["fnomin"] = float(args.rated_load)

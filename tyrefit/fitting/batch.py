@@ -221,7 +221,7 @@ def _sha256(path: str | os.PathLike) -> str | None:
 
 def fingerprint(source: str | os.PathLike, options: dict[str, Any]) -> dict[str, Any]:
     """What a batch ``.tir`` was fitted from: source contents (SHA-256), fit options, tyrefit version."""
-    from .. import __version__
+    from .._version import __version__
 
     return {"source": str(source), "source_sha256": _sha256(source),
             "options": {k: options[k] for k in sorted(options)}, "tyrefit": __version__}

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .. import __version__
+from .._version import __version__
 from ..models import mf61
 from .initial import load_levels
 from .mf_stages import STAGES
@@ -289,6 +289,65 @@ class FitResultMF:
                       f"{self.params.get('PHY3', 0.0):.10g}", text, count=1)
         write_text(path, text, force=force)
         return Path(path)
+
+    # ------------------------------------------------------------------ the Python API (tyrefit.fit)
+    @property
+    def tyre(self):
+        """The fitted tyre (:class:`tyrefit.tyres.mf.MFTyre`): ``forces``, ``to_tir`` (the file ``fit`` writes)."""
+        from ..tyres.mf import MFTyre
+
+        t = MFTyre(params=dict(self.params), family="MF52" if self.version == "5.2" else "MF61",
+                   version=self.version, ranges=self.ranges(), fnomin=self.params.get("FNOMIN"),
+                   unloaded_radius=self.params.get("UNLOADED_RADIUS"), nominal_pressure=self.params.get("NOMPRES"),
+                   name=str((self.tyre_info or {}).get("name") or "MF tyre"), header=list(self.header()))
+        t._result = self  # to_tir writes through write_tir: the contract check, header and not-fitted lines
+        return t
+
+    def plot(self, ax=None):
+        """Model over data, one panel per condition level, Fy against slip angle (Fx where no Fy was fitted).
+
+        ``ax``: an Axes (the nominal condition), an array of Axes, a Figure, or None (a pyplot figure).
+        Returns the Axes.  :func:`tyrefit.fitting.mf_figures.plot_curves` draws every channel and kind.
+        """
+        kind = "lateral" if "fy" in self.stats else "longitudinal"
+        return self.plot_curves(kind, None, ax=ax)
+
+    def to_frame(self) -> pd.DataFrame:
+        """Every point with its sweep, conditions, measured channels and the model (``model_<channel>``)."""
+        return self.data.df.copy()
+
+    def to_html(self) -> str:
+        """HTML fragment: statistics per channel and record, stages, coefficients, holds, notes (no figures)."""
+        from ..io.report import Report
+
+        r = Report(f"Magic Formula {self.version} fit")
+        r.h2("Fit quality per channel")
+        r.table([{"channel": c.upper(), "RMSE": s["rmse"], "unit": s["unit"], "R²": s["r2"],
+                  "noise floor": s["noise_floor"], "fitted": s["fitted"]} for c, s in self.stats.items()])
+        if self.not_identifiable:
+            r.h3("Held")
+            r.table([{"name": k, "value": self.params.get(k, float("nan")), "reason": v}
+                     for k, v in self.not_identifiable.items()])
+        if self.warnings:
+            r.bullets(self.warnings)
+        return "\n".join(r.blocks)
+
+    def _repr_html_(self) -> str:
+        return self.to_html()
+
+    def report(self, directory, force: bool = False, title: str | None = None) -> Path:
+        """Write the self-contained HTML report (the one ``fit --report`` writes) and ``fit.json`` to ``directory``."""
+        import json
+
+        from ..io.outputs import write_text
+        from ..io.report import Report
+
+        r = Report(title or f"Magic Formula {self.version} fit — {', '.join(map(os.path.basename, self.data.sources))}")
+        self.report_blocks(r)
+        d = Path(directory)
+        out = r.save(d, force=force)
+        write_text(d / "fit.json", json.dumps(self.to_dict(), indent=1, default=float), force=True)
+        return out
 
     def to_dict(self) -> dict:
         """The fit as JSON-able data: model, per-channel statistics (and per record), the coefficients fitted

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .. import __version__
+from .._version import __version__
 from ..tyres.pac89 import Pac89Tyre
 
 __all__ = ["FitResult", "noise_floor_of", "NOISE_FLOOR_DEFINITION"]
@@ -487,7 +487,10 @@ class FitResult:
         return ax
 
     def plot(self, ax=None, part: str | None = None, camber: float | None = None, pressure: float | None = None):
-        """Fit (lines) over data (dots) for each load of one condition level; returns the Axes.
+        """Fit (lines) over data (dots), loads as lines; returns the Axes.
+
+        ``ax`` None: a pyplot figure with one panel per condition level (an array of Axes when several);
+        an Axes: the panel of one condition level, chosen by ``camber`` and ``pressure``.
 
         Parameters
         ----------
@@ -499,11 +502,25 @@ class FitResult:
             the panel at the pressure level nearest this [Pa]; default: the first level.
         """
         part = part or self.parts[0]
-        if ax is None:
-            from matplotlib.figure import Figure
-
-            ax = Figure(figsize=(6.4, 4.4)).subplots()
         facets, info = self.facets(part)
+        if ax is None:  # a pyplot figure (notebooks and plt.show() display it), one panel per condition level
+            import matplotlib.pyplot as plt
+
+            n = len(facets)
+            cols = min(3, n)
+            rows = -(-n // cols)
+            fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.3 * rows), squeeze=False, sharex=True,
+                                     sharey=True, layout="constrained")
+            flat = axes.ravel()
+            for a, f in zip(flat, sorted(facets, key=lambda f: f.row)):
+                self._draw_panel(a, part, f)
+                a.set_title(f.title, fontsize=9)
+            for a in flat[n:]:
+                a.set_visible(False)
+            const = describe_constant_text(info)
+            if const:
+                fig.suptitle(const, fontsize=9)
+            return axes if n > 1 else flat[0]
         want = {"camber": 0.0 if camber is None else camber}
         if pressure is not None:
             want["pressure"] = pressure

@@ -418,6 +418,33 @@ class MFTyre(Tyre):
     def coefficient_table(self) -> list[dict]:
         return [{"name": k, "value": v} for k, v in self.params.items()]
 
+    def to_tir(self, path, force: bool = False):
+        """Write the tyre as an MF 6.1 (``FITTYP = 61``) property file, every coefficient, the ranges it declares.
+
+        A fitted tyre (``tyrefit.fit(...).tyre``) is written as ``fit`` writes it (the physical-validity
+        contract checked, the fit's header); any other is written from its parameters and ranges after the
+        reader's own check (:meth:`check`), so a file tyrefit writes is one its ``eval`` reads.
+        """
+        from pathlib import Path
+
+        from ..io.mf_tir import write_mf_tir
+
+        res = getattr(self, "_result", None)
+        if res is not None:
+            return res.write_tir(path, force=force)
+        problems = self.check()
+        if problems:
+            raise ModelError(f"{self.name}: not written, the tyre is not physical over its declared range: "
+                             f"{problems[0]}")
+        write_mf_tir(self.params, path, ranges=self.ranges or None, header=tuple(self.header or ()),
+                     force=force, version="5.2" if self.family == "MF52" else "6.1")
+        return Path(path)
+
+    def to_json(self, path, force: bool = False):
+        """Chrono's JSON is a PAC89 format; a Magic Formula tyre is exchanged as its ``.tir`` (:meth:`to_tir`)."""
+        raise ModelError(f"{self.name}: Chrono's JSON (Pac89Tire) holds a PAC89 tyre; write this Magic Formula tyre "
+                         "with to_tir(path), which Chrono's Pac02Tire and MF readers load")
+
 
 #: coefficients of MF 6.1 that tyrefit's MF 5.2 evaluation does not read (checked by changing each one; teasit's
 #: 'v52' FSAE export carries PPX1..PPY5, PKY5..PKY7, PEY5 with FITTYP = 6)

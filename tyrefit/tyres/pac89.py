@@ -258,6 +258,10 @@ class Pac89Tyre(Tyre):
         """Write Chrono's PAC89 JSON (:func:`tyrefit.io.chrono_json.write_chrono_json`)."""
         return write_chrono_json(self, path, force=force)
 
+    def to_json(self, path, force: bool = False):
+        """Chrono's PAC89 JSON (:meth:`to_chrono_json`), the name the Python API gives it."""
+        return self.to_chrono_json(path, force=force)
+
     def coefficient_table(self, names=pac89.ALL) -> list[dict]:
         return [{"name": k, "value": self.coefficients[k]} for k in names]
 

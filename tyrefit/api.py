@@ -1,0 +1,136 @@
+"""The Python API: the workflows of the command line as functions of data and keyword options.
+
+``import tyrefit as tf`` exports these (``tyrefit/__init__.py``)::
+
+    ds  = tf.read_data(tf.datasets.path("truck/tyre_a_dynamic.csv"))
+    res = tf.fit(ds, model="pac89", cost="l1", size="385/65R22.5", rated_load=41678)
+    res.summary(); res.plot(); res.to_frame(); res.tyre.to_tir("a.tir"); res.tyre.to_json("a.json")
+    mf  = tf.fit([corner, drive_brake], model="mf61")          # several records, one tyre
+    dg  = tf.diagnose(ds, start=["load_friction"], rated_load=6031)
+    cmp = tf.compare(tyre_a, tyre_b, data=ds)
+    sim = tf.simulate("ramp", front=mf.tyre, rear=mf.tyre, vehicle="fsae")
+
+:func:`fit` runs the very code of ``tyrefit fit`` (:func:`tyrefit.commands.fit.fit_file` and
+:func:`tyrefit.commands.fit_mf.fit_mf_files`), so the same data and options give the same tyre file; the
+workflow itself is still to be moved out of ``commands/`` into the library (issue 27), behind this API.
+"""
+
+from __future__ import annotations
+
+import os
+from argparse import Namespace
+from collections.abc import Sequence
+
+from .errors import DataError
+
+__all__ = ["read_data", "read_tyre", "fit", "diagnose", "compare", "simulate"]
+
+_MODELS = ("pac89", "mf52", "mf61")
+
+
+def read_data(path, convention: str = "iso", kind: str | None = None):
+    """Read a rig record (CSV with unit headers, TYDEX ``.tdx``, FSAE TTC ``.dat``) into SI and ISO-W signs.
+
+    ``convention``: the file's sign convention, 'iso' or 'sae' (FSAE TTC: Fz negative).
+    """
+    from .io.readers import read_data as _read
+
+    if convention not in ("iso", "sae"):
+        raise DataError(f"convention={convention!r}: 'iso' or 'sae'")
+    return _read(path, convention=convention) if kind is None else _read(path, convention=convention, kind=kind)
+
+
+def read_tyre(path):
+    """Read any tyre file tyrefit reads (PAC89 ``.tir``, MF 5.x/PAC2002, MF 6.1/6.2, Chrono JSON)."""
+    from .io.tir import read_tyre as _read
+
+    return _read(path)
+
+
+def _path(x) -> str | None:
+    return None if x is None else os.fspath(x)
+
+
+def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] | str | None = None,
+        size: str | None = None, rated_load: float | None = None, patch=None, rig=None, vertical=None,
+        static_part: str = "peak", convention: str = "iso", allow_mirrored: bool = False):
+    """Fit a tyre to rig data: ``tyrefit fit`` as a function.
+
+    Parameters
+    ----------
+    data : path, Dataset, or a sequence of them
+        one record (PAC89) or several records of one tyre (a cornering and a drive/brake record; MF only).
+    model : {'pac89', 'mf52', 'mf61'}
+    cost : {'l2', 'l1', 'soft_l1', 'huber'}
+        'l1' is Komana et al.'s Eq. 5 (sum of absolute friction errors).
+    effects : list of str, optional
+        diagnose effect ids fitted on top of the start model.
+    size, rated_load : optional
+        tyre size ('385/65R22.5') and rated load [N]: dimensions, FNOMIN and estimates.
+    patch, rig, vertical : path, optional
+        contact-patch data, rig calibration and vertical-stiffness test (static-rig data, PAC89).
+    static_part : {'peak', 'sliding'}
+    convention : {'iso', 'sae'}
+
+    Returns
+    -------
+    :class:`tyrefit.fitting.FitResult` (PAC89) or :class:`tyrefit.fitting.mf_result.FitResultMF`; both have
+    ``tyre`` (``to_tir``, ``forces``), ``summary()``, ``plot(ax=None)``, ``to_frame()``, ``report(dir)``,
+    ``_repr_html_``.
+    """
+    if model not in _MODELS:
+        raise DataError(f"model={model!r}: one of {', '.join(_MODELS)}")
+    items = list(data) if isinstance(data, (list, tuple)) else [data]
+    if not items:
+        raise DataError("data: give at least one record")
+    eff = effects if isinstance(effects, str) or effects is None else ",".join(effects)
+    args = Namespace(model=model, cost=cost, effects=eff, size=size, rated_load=rated_load, patch=_path(patch),
+                     rig=_path(rig), vertical=_path(vertical), static_part=static_part, convention=convention,
+                     allow_mirrored=allow_mirrored, by=None, json=None, report=None)
+    if model != "pac89":
+        for name, v in (("patch", patch), ("rig", rig), ("vertical", vertical)):
+            if v is not None:
+                raise DataError(f"{name}=: static-rig inputs are for model='pac89'; a Magic Formula fit takes "
+                                "dynamic-rig slip sweeps")
+        from .commands.fit_mf import fit_mf_files
+
+        result, start = fit_mf_files(args, [i if hasattr(i, "df") else os.fspath(i) for i in items])
+        result.start = start
+        return result
+    if len(items) > 1:
+        raise DataError(f"data: {len(items)} records; a PAC89 tyre is fitted to one record (several records of "
+                        "one tyre need model='mf61' or 'mf52')")
+    from .commands.fit import fit_file
+
+    item = items[0]
+    if hasattr(item, "df"):
+        args.data = str(getattr(item, "source", "") or "data")
+        result, extras = fit_file(args, ds=item)
+    else:
+        args.data = os.fspath(item)
+        result, extras = fit_file(args)
+    result.extras = extras
+    return result
+
+
+def diagnose(data, *, start: Sequence[str] | None = None, rated_load: float | None = None,
+             convention: str = "iso", seed: int = 0):
+    """What the start model misses, effect by effect (:func:`tyrefit.diagnose.workflow`)."""
+    from .diagnose import workflow
+
+    return workflow(data, start=start, rated_load=rated_load, convention=convention, seed=seed)
+
+
+def compare(a, b, data=None, *, convention: str = "iso", names: Sequence[str] | None = None,
+            allow_unphysical: bool = False):
+    """Two tyres on the quantities engineers read, channel by channel (:func:`tyrefit.compare.workflow`)."""
+    from .compare import workflow
+
+    return workflow(a, b, data, convention=convention, names=names, allow_unphysical=allow_unphysical)
+
+
+def simulate(scenario: str, front=None, rear=None, vehicle="ev", **options):
+    """A vehicle scenario with the given tyres on a vehicle (preset name, file or spec): ``tyrefit sim``."""
+    from .sim.api import simulate as _simulate
+
+    return _simulate(scenario, front=front, rear=rear, vehicle=vehicle, **options)
