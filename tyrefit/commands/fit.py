@@ -20,7 +20,7 @@ from pathlib import Path
 from ..errors import DataError
 from ..io.outputs import check_outputs
 from ..tyres.size import complete_design, size_and_rated_load
-from .fit_mf import run_mf
+from .fit_mf import check_mirror, run_mf
 
 __all__ = ["run", "fit_file"]
 
@@ -29,15 +29,6 @@ def _read(path, convention, kind=None):
     from ..io.readers import read_data
 
     return read_data(path, convention=convention, kind=kind) if kind else read_data(path, convention=convention)
-
-
-def check_mirror(ds, args) -> None:
-    """Refuse a mirrored tyre (camber thrust, pneumatic trail or Fx of the wrong sign) unless
-    ``--allow-mirrored``; with it, print the findings as warnings (:mod:`tyrefit.io.plausibility`)."""
-    from ..io.plausibility import check_mirrored
-
-    for m in check_mirrored(ds, allow=bool(getattr(args, "allow_mirrored", False))):
-        print(f"  WARNING (--allow-mirrored): {m}")
 
 
 def _resolver():

@@ -49,6 +49,15 @@ _PAC89_ONLY = (("patch", "--patch (static-rig tests)"), ("rig", "--rig"), ("vert
                ("by", "--by"), ("json", "--json (Chrono's PAC89 JSON)"))
 
 
+def check_mirror(ds, args) -> None:
+    """Refuse a mirrored tyre (camber thrust, pneumatic trail or Fx of the wrong sign) unless
+    ``--allow-mirrored``; with it, print the findings as warnings (:mod:`tyrefit.io.plausibility`)."""
+    from ..io.plausibility import check_mirrored
+
+    for m in check_mirrored(ds, allow=bool(getattr(args, "allow_mirrored", False))):
+        print(f"  WARNING (--allow-mirrored): {m}")
+
+
 def fit_mf_files(args, datas):
     """Read ``datas`` and fit; returns ``(result, start)`` (``start``: start-model fit with --effects, else None)."""
     from ..fitting.mf import fit_mf, prepare_mf_data
@@ -61,8 +70,6 @@ def fit_mf_files(args, datas):
         if ds.kind not in ("slip_angle", "slip_ratio"):
             raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a Magic Formula tyre; it needs "
                             "slip-angle or slip-ratio sweeps from a dynamic rig")
-        from .fit import check_mirror
-
         check_mirror(ds, args)
         sets.append(ds)
     data = prepare_mf_data(sets)
