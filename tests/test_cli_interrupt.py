@@ -24,6 +24,14 @@ def _command() -> list[str]:
     return [str(exe)] if exe.exists() else [sys.executable, "-m", "tyrefit.cli"]
 
 
+def _before_tyrefit(err: str) -> bool:
+    """A KeyboardInterrupt raised in the entry script's own ``from tyrefit.cli import main`` line, with no frame
+    of tyrefit's code in the traceback: the signal came before cli.py's first line could install its handler."""
+    lines = err.strip().splitlines()
+    return (bool(lines) and lines[-1] == "KeyboardInterrupt" and "from tyrefit.cli import main" in err
+            and not any("/tyrefit/" in ln and "File " in ln for ln in lines))
+
+
 @pytest.mark.skipif(os.name != "posix", reason="SIGINT delivery to a child")
 def test_ctrl_c_during_start_up_is_one_line_exit_130():
     cmd = _command() + ["inspect", str(DATA)]
@@ -37,6 +45,8 @@ def test_ctrl_c_during_start_up_is_one_line_exit_130():
         time.sleep(delay)
         p.send_signal(signal.SIGINT)
         _, err = p.communicate(timeout=60)
+        if _before_tyrefit(err):  # the interpreter's own start-up (longer on a loaded machine): not tyrefit's
+            continue
         if "Traceback" in err or "Exception ignored" in err or p.returncode not in (0, 130, -signal.SIGINT):
             bad.append((round(delay, 3), p.returncode, err.splitlines()[-2:]))
         if p.returncode == 130:
