@@ -1,9 +1,7 @@
 """Comparing tyre models: with each other and with data (:mod:`.tyres`), and the
 camber brush model against PAC89 (:mod:`.brush`)."""
 
-import sys as _sys
-import types as _types
-
+from .._callable import callable_package
 from .tyres import Comparison, LoadComparison, binned_curve, compare_tyres, data_metrics, model_metrics
 
 __all__ = ["Comparison", "LoadComparison", "compare_tyres", "model_metrics", "data_metrics", "binned_curve"]
@@ -29,15 +27,4 @@ def workflow(a, b, data=None, *, convention: str = "iso", names=None, allow_unph
     return compare_tyres(tyres[0], tyres[1], ds, names=nm)
 
 
-class _Workflow(_types.ModuleType):
-    """``tyrefit.compare`` is this package and, called, :func:`workflow` (``tf.compare(a, b, data=None)``).
-
-    Python binds the subpackage to the name ``compare`` of ``tyrefit`` as soon as anything imports it, so the
-    package itself is made callable rather than renamed (every ``tyrefit.compare.*`` import stays as it is).
-    """
-
-    def __call__(self, *args, **kwargs):
-        return workflow(*args, **kwargs)
-
-
-_sys.modules[__name__].__class__ = _Workflow
+callable_package(__name__, workflow)

@@ -6,9 +6,7 @@
 >>> dg.report("reports/diagnose")                  # doctest: +SKIP
 """
 
-import sys as _sys
-import types as _types
-
+from .._callable import callable_package
 from .data import SweepData, prepare
 from .engine import Candidate, Settings, Step, diagnose
 from .result import Diagnosis
@@ -28,15 +26,4 @@ def workflow(data, *, start=None, rated_load=None, convention: str = "iso", seed
     return diagnose(ds, start=list(start or []), rated_load=rated_load, seed=int(seed))
 
 
-class _Workflow(_types.ModuleType):
-    """``tyrefit.diagnose`` is this package and, called, :func:`workflow` (``tf.diagnose(data, start=...)``).
-
-    Python binds the subpackage to the name ``diagnose`` of ``tyrefit`` as soon as anything imports it, so the
-    package itself is made callable rather than renamed (every ``tyrefit.diagnose.*`` import stays as it is).
-    """
-
-    def __call__(self, *args, **kwargs):
-        return workflow(*args, **kwargs)
-
-
-_sys.modules[__name__].__class__ = _Workflow
+callable_package(__name__, workflow)

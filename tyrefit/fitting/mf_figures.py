@@ -248,10 +248,20 @@ def panels(result, kind: str, channel: str | None = None) -> pd.DataFrame:
     dims = ("p", "v", "g") if kind == "ellipse" else (("p", "v", "g", "a") if kind == "combined" else ("p", "v", "g"))
     if d.empty:
         return pd.DataFrame(columns=[*dims, "title"])
+    return _titled(d, dims)[0]
+
+
+def _titled(d: pd.DataFrame, dims) -> tuple[pd.DataFrame, str]:
+    """The panels of ``d`` (:func:`_panel_table`) titled by the conditions that vary; the constant ones' text."""
     t = _panel_table(d, dims)
-    show, _ = _varying(t, dims)
+    show, const = _varying(t, dims)
     t["title"] = [_label(r, show) for _, r in t.iterrows()]
-    return t
+    return t, const
+
+
+def _single_axes(ax) -> bool:
+    """One Axes given (draw the nominal condition on it), not a Figure, an array of Axes or None."""
+    return ax is not None and not _is_figure(ax) and not isinstance(ax, (np.ndarray, list, tuple))
 
 
 def _grid(t: pd.DataFrame, dims, max_cols: int = 4) -> tuple[int, int, list[tuple[int, int]]]:
@@ -464,10 +474,8 @@ def plot_curves(result, kind: str = "lateral", channel: str | None = None, ax=No
         a0 = np.atleast_1d(np.asarray(ax, dtype=object)).ravel()[0]
         a0.text(0.5, 0.5, f"no {kind} sweeps with {channel.upper()}", ha="center", transform=a0.transAxes)
         return ax
-    t = _panel_table(d, dims)
-    show, const = _varying(t, dims)
-    t["title"] = [_label(r, show) for _, r in t.iterrows()]
-    single = ax is not None and not _is_figure(ax) and not isinstance(ax, (np.ndarray, list, tuple))
+    t, const = _titled(d, dims)
+    single = _single_axes(ax)
     if single:
         idx = [_pick_nominal(result, t, panel)]
         axes = np.array([ax], dtype=object)
@@ -535,10 +543,8 @@ def plot_residual_map(result, kind: str = "lateral", channel: str | None = None,
     dims = ("p", "v", "g", "a") if kind == "combined" else ("p", "v", "g")
     if d.empty:
         return plot_curves(result, kind, channel, ax)
-    t = _panel_table(d, dims)
-    show, const = _varying(t, dims)
-    t["title"] = [_label(r, show) for _, r in t.iterrows()]
-    single = ax is not None and not _is_figure(ax) and not isinstance(ax, (np.ndarray, list, tuple))
+    t, const = _titled(d, dims)
+    single = _single_axes(ax)
     if single:
         idx, axes, fig = [_pick_nominal(result, t, None)], np.array([ax], dtype=object), ax.figure
     else:
@@ -725,10 +731,8 @@ def plot_friction_ellipse(result, ax=None, *, max_dots: int = 150, panel: int | 
         a0 = np.atleast_1d(np.asarray(ax, dtype=object)).ravel()[0]
         a0.text(0.5, 0.5, "no sweeps with both Fx and Fy", ha="center", transform=a0.transAxes)
         return ax
-    t = _panel_table(d, dims)
-    show, const = _varying(t, dims)
-    t["title"] = [_label(r, show) for _, r in t.iterrows()]
-    single = ax is not None and not _is_figure(ax) and not isinstance(ax, (np.ndarray, list, tuple))
+    t, const = _titled(d, dims)
+    single = _single_axes(ax)
     if single:
         idx, axes, fig = [_pick_nominal(result, t, panel)], np.array([ax], dtype=object), ax.figure
     else:
