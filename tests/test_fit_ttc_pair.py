@@ -106,3 +106,19 @@ def test_each_record_is_judged_against_its_own_noise(fitted):
     assert by["cornering.dat"]["rmse"] < 3 * by["cornering.dat"]["noise_floor"]
     head = "\n".join(r.header())
     assert "MZ on cornering.dat" in head and "MZ on drivebrake.dat" in head
+
+
+def test_a_drive_brake_record_alone_fits_fx_and_says_why_not_fy(fitted, tmp_path):
+    # combined Fy and Mx are evaluated on Fy0, which a drive/brake record (slip angles 0, -3, -6 only) does not
+    # give: fitted on a neutral Fy0 they were nonsense (Fy 725 N RMSE, R2 0.46) reported as fitted
+    _, _, drive, _ = fitted
+    out = tmp_path / "db.tir"
+    assert main(["fit", str(drive), "--convention", "sae", "--model", "mf61", "--out", str(out)]) == 0
+    from tyrefit.fitting.mf import fit_mf
+    from tyrefit.io.readers import read_data
+
+    r = fit_mf([read_data(drive, convention="sae")])
+    assert r.stats["fx"]["fitted"] and not r.stats["fy"]["fitted"] and "Fy" not in r.stages
+    assert any(n.startswith("Fy not fitted: it is evaluated on the Fy0 stage") for n in r.notes)
+    tyre = read_tyre(out)
+    assert tyre.use_mode == 1 and check_tyre(tyre) == []

@@ -2120,6 +2120,14 @@ def _known_names() -> set:
     return _KNOWN
 
 
+#: the stage whose fitted curve a stage is evaluated on (Pacejka 2012: combined slip weights the pure-slip
+#: forces, 4.E50/4.E58; the trail and residual torque use Fy0's stiffness and shift, 4.E34-4.E47; Mx uses Fy)
+_PREREQUISITE = {"Fx": "Fx0", "Fy": "Fy0", "Mz0": "Fy0", "Mz": "Mz0", "Mx": "Fy0"}
+_PREREQUISITE_WHY = {"Fx0": "no slip-ratio sweeps at zero slip angle with Fx",
+                     "Fy0": "no slip-angle sweeps at zero slip ratio with Fy",
+                     "Mz0": "no slip-angle sweeps at zero slip ratio with Mz"}
+
+
 # ------------------------------------------------------------------------------ public API
 def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] | None = None,
            effects: Sequence[str] | None = None, fixed: Mapping[str, float] | None = None,
@@ -2181,6 +2189,13 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
                 if quiet[st.channel]:
                     notes.append(quiet[st.channel])
             if quiet[st.channel]:
+                continue
+            pre = _PREREQUISITE.get(st.name)
+            if pre and (stages is None or pre in stages) and not (pre in fits and fits[pre].varied):
+                # each stage holds the ones before it: on a neutral placeholder curve it would fit nonsense (a
+                # drive/brake record alone: combined Fy on a neutral Fy0, 725 N RMSE, R2 0.46)
+                notes.append(f"{st.name} not fitted: it is evaluated on the {pre} stage's curve, which these data do "
+                             f"not give ({_PREREQUISITE_WHY[pre]})")
                 continue
             only = None
             if st.name == "Mz*":
