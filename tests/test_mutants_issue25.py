@@ -288,3 +288,27 @@ def test_relaxation_length_is_n_l_1_plus_b_u(n, b):
     assert_allclose(sigma, n * L * (1.0 + b * np.abs(u)), rtol=1e-12)
     dy = u * L
     assert_allclose(np.tan(cal.slip_angle(dy, L)), dy / sigma, rtol=1e-12)
+
+
+# ------------------------------------------------------------------------------- diagnose: a guard decides
+def test_the_level_out_guard_refuses_a_law_that_worsens_held_out_load_levels():
+    # 4 loads x 2 repeats, a power-law friction truth with sweep offsets: the overload laws fit the training
+    # levels but predict a held-out interior load level 60 N worse; the level-out guard must refuse them, and
+    # nothing confirmed or accepted may worsen a held-out level (the invariant the slow suite checks at scale)
+    import importlib
+    import sys
+    from pathlib import Path
+
+    from tyrefit.diagnose import diagnose
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    forms = importlib.import_module("diag_forms")
+    d, rated, _ = forms.make("load_friction", "offsets", seed=2, layout="repeated", n_loads=4, repeats=2,
+                             above_rated=1)
+    dg = diagnose(d, rated_load=rated, seed=2)
+    refused = {k for k, c in dg.candidates.items() if c.reason.startswith("worse on held-out condition levels")}
+    assert "overload" in refused, {k: (c.status, c.reason) for k, c in dg.candidates.items()}
+    for k, c in dg.candidates.items():
+        if c.status.startswith(("confirmed", "accepted")) or k in dg.accepted:
+            assert not (c.delta_levelout < 0), (k, c.status, c.delta_levelout)
+    assert not any(dg.candidates[k].family == "overload" for k in dg.accepted), dg.accepted
