@@ -116,6 +116,7 @@ import numpy as np
 
 from ..effects import EFFECTS, Effect, get_effect, parse_effects
 from ..errors import DataError, FitError
+from ..fitting._blas import single_threaded_blas
 from .advice import build_advice, peak_reach
 from .data import SweepData, prepare
 from .fitter import FitOut, ModelSpec, fit, fit_start
@@ -349,6 +350,17 @@ def _confirm(ev: dict, margin_abs: float, s: Settings, few_sweeps: bool = False)
 
 def diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, settings: Settings | None = None,
              **kw):
+    """Find the physical effects a PAC89 model of lateral-force sweeps is missing (:func:`_diagnose`).
+
+    BLAS runs on one thread, as in the fits (:func:`tyrefit.fitting._blas.single_threaded_blas`): the
+    problems are small and a second BLAS thread only contends with the first.
+    """
+    with single_threaded_blas():
+        return _diagnose(ds, start=start, rated_load=rated_load, seed=seed, settings=settings, **kw)
+
+
+def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, settings: Settings | None = None,
+              **kw):
     """Find the physical effects a PAC89 model of lateral-force sweeps is missing.
 
     Parameters
