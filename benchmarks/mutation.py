@@ -29,8 +29,13 @@ seed derived from ``--seed`` and the file's path, so that an unchanged file
 gives the same mutants in any checkout: runs before and after new tests can be
 compared mutant by mutant.
 
-``--named`` also runs the hand-written mutants of issue 15 (:data:`NAMED`):
-mutations that survived the suite when the issue was written.
+``--named`` also runs the hand-written mutants of issues 15 and 25
+(:data:`NAMED`): mutations that survived the suite when the issue was written.
+``--only FRAGMENT[,FRAGMENT]`` runs just the named mutants whose name contains
+one of the fragments (add ``--sample 0`` to skip the sampled ones).  A named
+mutant whose text is no longer in the code (exactly once) stops the run
+(:class:`StaleMutant`, exit status 1 with the list) instead of leaving the
+score: keep :data:`NAMED` in step with the code.
 """
 
 from __future__ import annotations
@@ -64,8 +69,8 @@ TARGETS = {
 #: the mutations issue 15 found surviving: (name, file, old text, new text, tests)
 NAMED = [
     ("sweep weighting 1/n dropped from the default cost", "tyrefit/fitting/engine.py",
-     "self.w = 1.0 / np.sqrt(d.n_per_run) if cost == \"l2\" else 1.0 / d.n_per_run",
-     "self.w = 1.0 if cost == \"l2\" else 1.0 / d.n_per_run",
+     "        self.weights = 1.0 / d.n_per_run  # each sweep counts once",
+     "        self.weights = 1.0 + 0.0 * d.n_per_run  # each sweep counts once",
      ["tests/test_fitting.py", "tests/test_mutations.py"]),
     ("speed effect's stiffness term deleted", "tyrefit/effects/catalogue.py",
      "    coef[\"a3\"] = coef[\"a3\"] * relative_factor(x.speed, x.speed_ref, v[\"speed_ky\"])\n",
@@ -82,6 +87,46 @@ NAMED = [
     ("scenarios' treadwear exponent silently replaced by HPwizard's 0.15", "tyrefit/sim/scenarios.py",
      None, None,  # filled by _named_scenarios (the code under test changed with its fix)
      ["tests/test_sim_scenarios.py", "tests/test_mutations.py"]),
+]
+
+#: the mutations issue 25 found surviving the quick suite (each killed by tests/test_mutants_issue25.py)
+NAMED += [
+    ("l1 cost stops after the first continuation step", "tyrefit/fitting/core.py",
+     "        for frac in L1_STEPS:\n", "        for frac in L1_STEPS[:1]:\n",
+     ["tests/test_fitting_core.py", "tests/test_mutants_issue25.py"]),
+    ("MF stage constraint penalty weight 0", "tyrefit/fitting/mf.py",
+     "self.pen_w = 10.0 * math.sqrt(", "self.pen_w = 0.0 * math.sqrt(",
+     ["tests/test_mutants_issue25.py"]),
+    ("allocator's rear-force clip removed", "tyrefit/sim/allocator.py",
+     "        fx_r = np.minimum(np.maximum(fx_r, self.rear.lower), self.rear.upper)\n", "",
+     ["tests/test_sim_allocator.py", "tests/test_mutants_issue25.py"]),
+    ("torque feed-forward without the slip term of dw_ref/dt", "tyrefit/sim/allocator.py",
+     "dw_ref = (1.0 + lam) * vdot / p.wheel_radius", "dw_ref = vdot / p.wheel_radius",
+     ["tests/test_sim_allocator.py", "tests/test_mutants_issue25.py"]),
+    ("breakpoint interval at Delta SSE = s, not s / dof", "tyrefit/rig/patch.py",
+     "s * (1.0 + 1.0 / dof)", "s * (1.0 + 1.0)",
+     ["tests/test_rig_patch.py", "tests/test_mutants_issue25.py"]),
+    ("linear pressure law's sign flipped", "tyrefit/rig/patch.py",
+     "return self.ref + self.m * (p - p_ref)", "return self.ref - self.m * (p - p_ref)",
+     ["tests/test_rig_patch.py", "tests/test_mutants_issue25.py"]),
+    ("My without VXLOW does not follow the rolling speed's sign", "tyrefit/models/mf61.py",
+     "        my = my * np.sign(vr)\n", "        my = my\n",
+     ["tests/test_mf61_model.py", "tests/test_mutants_issue25.py"]),
+    ("level-out confirmation guard switched off", "tyrefit/diagnose/engine.py",
+     "    if np.isfinite(ev[\"delta_levelout\"]) and ev[\"delta_levelout\"] < 0:\n", "    if False:\n",
+     ["tests/test_diagnose.py", "tests/test_mutants_issue25.py"]),
+    ("score-test p-value without the +1 (can be 0)", "tyrefit/diagnose/stats.py",
+     "    p = (1.0 + np.count_nonzero(Tb >= T * (1 - 1e-9))) / (n_boot + 1.0)",
+     "    p = (0.0 + np.count_nonzero(Tb >= T * (1 - 1e-9))) / (n_boot + 1.0)",
+     ["tests/test_mutants_issue25.py"]),
+    ("screening p-value without the +1 (can be 0)", "tyrefit/diagnose/stats.py",
+     "    p_obs = (1.0 + np.sum(Tb >= T[:, None] * (1 - 1e-9), axis=1)) / (B + 1.0)",
+     "    p_obs = (0.0 + np.sum(Tb >= T[:, None] * (1 - 1e-9), axis=1)) / (B + 1.0)",
+     ["tests/test_mutants_issue25.py"]),
+    ("relaxation_length() without the factor n", "tyrefit/rig/conversion.py",
+     "return self.n * np.asarray(length, float) * (1.0 + self.b * np.abs(u))",
+     "return np.asarray(length, float) * (1.0 + self.b * np.abs(u))",
+     ["tests/test_rig_conversion.py", "tests/test_mutants_issue25.py"]),
 ]
 
 _OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
@@ -183,17 +228,36 @@ def _named_scenarios(root: Path):
     return None, None
 
 
-def named_mutants(root: Path) -> list[Mutant]:
-    out = []
+class StaleMutant(SystemExit):
+    """A named mutant whose text is not (exactly once) in the code: keep :data:`NAMED` in step with it."""
+
+
+def named_mutants(root: Path, only=None) -> list[Mutant]:
+    """The named mutants (those whose name contains one of ``only``, default all).
+
+    Raises
+    ------
+    StaleMutant
+        A selected mutant's text no longer matches the code (it would silently leave the score).
+    """
+    out, stale = [], []
     for name, rel, old, new, tests in NAMED:
+        if only and not any(s.lower() in name.lower() for s in only):
+            continue
         if old is None:
             old, new = _named_scenarios(root)
         text = (root / rel).read_text()
-        if old is None or old not in text:
-            out.append(Mutant(rel, -1, name, 0, "", tests, outcome="not applicable (code changed)"))
+        if old is None or text.count(old) != 1:
+            stale.append(f"{name} ({rel}: its text {'is not' if old is None or old not in text else 'is more than once'}"
+                         " in the code)")
             continue
         line = text[: text.index(old)].count("\n") + 1
         out.append(Mutant(rel, -1, name, line, text.replace(old, new, 1), tests))
+    if stale:
+        raise StaleMutant("named mutants that no longer match the code (update benchmarks/mutation.py NAMED):\n  "
+                          + "\n  ".join(stale))
+    if only and not out:
+        raise SystemExit(f"no named mutant matches {', '.join(only)}")
     return out
 
 
@@ -223,13 +287,14 @@ def _copy(root: Path, work: Path) -> None:
             shutil.copy2(root / name, work / name)
 
 
-def run(root: Path, sample: int, seed: int, named: bool, files=None, log=print) -> dict:
+def run(root: Path, sample: int, seed: int, named: bool, files=None, log=print, only=None) -> dict:
+    """Score the sampled mutants (``sample`` > 0) and, with ``named`` or ``only``, the named ones."""
     root = Path(root).resolve()
     files = files or list(TARGETS)
     per_file = max(1, round(sample / len(files)))
-    mutants = [m for rel in files for m in mutants_of(root, rel, per_file, seed)]
-    if named:
-        mutants += named_mutants(root)
+    mutants = [m for rel in files for m in mutants_of(root, rel, per_file, seed)] if sample > 0 else []
+    if named or only:
+        mutants += named_mutants(root, only)
     with tempfile.TemporaryDirectory(prefix="tyrefit-mut-") as tmp:
         work = Path(tmp)
         _copy(root, work)
@@ -276,12 +341,15 @@ def main(argv=None) -> int:
     ap.add_argument("--root", default=".", help="repository to mutate (default: here)")
     ap.add_argument("--sample", type=int, default=40, help="mutants sampled over the target files")
     ap.add_argument("--seed", type=int, default=15)
-    ap.add_argument("--named", action="store_true", help="also run issue 15's named mutants")
+    ap.add_argument("--named", action="store_true", help="also run the named mutants (issues 15 and 25)")
+    ap.add_argument("--only", default="", help="comma-separated name fragments: run just the named mutants whose "
+                    "name contains one (with --sample 0, nothing else)")
     ap.add_argument("--files", default="", help="comma-separated subset of the target files")
     ap.add_argument("--json", default="", help="write the rows here")
     a = ap.parse_args(argv)
     files = [f for f in a.files.split(",") if f] or None
-    res = run(Path(a.root), a.sample, a.seed, a.named, files)
+    only = [s for s in a.only.split(",") if s] or None
+    res = run(Path(a.root), a.sample, a.seed, a.named, files, only=only)
     print(f"mutation score {res['score']:.3f} ({res['killed']}/{res['mutants']} killed); sampled mutants "
           f"{res['sampled_score']:.3f} ({res['sampled_killed']}/{res['sampled_mutants']})")
     for r in res["rows"]:

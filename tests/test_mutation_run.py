@@ -17,14 +17,29 @@ ROOT = Path(__file__).resolve().parents[1]
 @pytest.mark.slow
 def test_named_mutants_are_killed_and_the_sample_is_scored(capsys):
     sys.path.insert(0, str(ROOT))
-    from benchmarks.mutation import run
+    from benchmarks.mutation import NAMED, run
 
     res = run(ROOT, sample=3, seed=15, named=True, files=["tyrefit/models/pac89.py"], log=lambda *_: None)
     named = [r for r in res["rows"] if r["site"] < 0]
-    assert len(named) == 5
+    assert len(named) == len(NAMED)
     survivors = [r["what"] for r in named if not r["outcome"].startswith("killed")]
     assert survivors == [], survivors
     with capsys.disabled():
         print(f"\nmutation score {res['score']:.3f} ({res['killed']}/{res['mutants']}); "
               f"surviving: {[r['file'] + ':' + str(r['line']) + ' ' + r['what'] for r in res['rows'] if r['outcome'] == 'survived']}")
     assert res["sampled_mutants"] == 3
+
+
+def test_a_named_mutant_that_no_longer_matches_the_code_stops_the_run(monkeypatch):
+    # quick: the check runs before any test does (issue 25: the 1/n mutant had silently left the score)
+    sys.path.insert(0, str(ROOT))
+    import benchmarks.mutation as bm
+
+    assert len(bm.named_mutants(ROOT)) == len(bm.NAMED)   # every named mutant matches today's code
+    stale = ("a line that is not there", "tyrefit/rig/patch.py", "no such text", "x", ["tests/test_rig_patch.py"])
+    monkeypatch.setattr(bm, "NAMED", [*bm.NAMED, stale])
+    with pytest.raises(bm.StaleMutant, match="a line that is not there"):
+        bm.named_mutants(ROOT)
+    with pytest.raises(bm.StaleMutant):
+        bm.run(ROOT, sample=0, seed=15, named=True, log=lambda *_: None)
+    assert [m.what for m in bm.named_mutants(ROOT, only=["pressure law"])] == ["linear pressure law's sign flipped"]
