@@ -27,7 +27,7 @@ def path(name: str) -> Path:
     if not p.is_file():
         near = [n for n in names() if Path(n).name == Path(str(name)).name]
         raise DataError(f"bundled data file {name!r} not found" + (f"; did you mean {near[0]!r}?" if near else
-                                                                     f"; see tyrefit.datasets.names()"))
+                                                                     "; see tyrefit.datasets.names()"))
     return p
 
 

@@ -880,7 +880,6 @@ def _contract_grid(stage: Stage, pts: pd.DataFrame, nominal: Mapping[str, float]
         return None
     fz = pts["fz"].to_numpy(float)
     fzg = np.linspace(*np.percentile(fz, [1, 99]), 5 if stage.name == "Mz0" else 3)
-    mf = _mf61()
     if stage.name == "Mz0":
         pr = pts["pressure"].to_numpy(float)
         pr = pr[np.isfinite(pr)]

@@ -39,7 +39,6 @@ import pandas as pd
 
 from .._version import __version__
 from ..models import mf61
-from .initial import load_levels
 from .mf_stages import STAGES
 from .result import FLOOR_RATIO_WARN, noise_floor_of
 
