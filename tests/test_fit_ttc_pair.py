@@ -69,6 +69,11 @@ def test_sim_runs_the_fsae_tyre_on_the_fsae_preset(fitted, tmp_path):
         assert out["vehicle"]["mass"] == pytest.approx(280.0, rel=0.05)
         assert "outside_envelope" in out["tyres"]["front"]
     assert out["lateral_limit_g"] > 1.5
+    # the fitted loads start at 172 N: the inner wheels unload below them before the limit, and the ramp says where
+    assert 1.0 < out["envelope_limit_g"] < out["lateral_limit_g"]
+    rows = [r for r in out["ramp"] if r["ay_g"] <= out["envelope_limit_g"]]
+    lo = json.loads((tmp_path / "ramp.json").read_text())["tyres"]["front"]["ranges"]["fz"][0]
+    assert rows and all(min(r[f"fz_{w}_N"] for w in ("fl", "fr", "rl", "rr")) >= lo for r in rows)
 
 
 def test_sim_runs_a_fitted_mf_tyre_at_loads_inside_its_range(tmp_path):

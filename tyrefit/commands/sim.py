@@ -195,7 +195,10 @@ def _ramp_summary(run_) -> str:
         f"Steady-state constant-radius ramp, R = {d['radius_m']:g} m, vehicle {run_.vehicle.name!r}",
         f"  understeer gradient {d['understeer_gradient_deg_per_g']:.4f} deg/g (linear bicycle model from the "
         f"tyres' cornering stiffness: {cf['understeer_gradient_deg_per_g']:.4f} deg/g)",
-        f"  lateral limit {d['lateral_limit_g']:.3f} g: {d['limit']}"])
+        f"  lateral limit {d['lateral_limit_g']:.3f} g: {d['limit']}",
+        f"  inside the tyres' declared envelopes up to {d['envelope_limit_g']:.3f} g"
+        + ("" if d["envelope_limit_g"] >= d["lateral_limit_g"] - 1e-9 else
+           " (beyond it the tyre models are extrapolated: see 'tyres' and the envelope figure)")])
 
 
 def ramp_report(run_):
@@ -215,7 +218,8 @@ def ramp_report(run_):
               "value": f"{d['closed_form']['cornering_stiffness_front_N_per_rad']:.0f} / "
                        f"{d['closed_form']['cornering_stiffness_rear_N_per_rad']:.0f}"},
              {"item": "lateral limit [g]", "value": d["lateral_limit_g"]},
-             {"item": "limited by", "value": d["limit"]}])
+             {"item": "limited by", "value": d["limit"]},
+             {"item": "inside the tyres' declared envelopes up to [g]", "value": d["envelope_limit_g"]}])
     r.figure(ramp_figure(run_.result), "Steering angle, body slip angle, axle slip angles and wheel loads over the "
                                        "lateral acceleration.")
     return r

@@ -13,7 +13,10 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..errors import DataError, ValueRangeError
+from ..nomenclature import G0
 from .vehicle_file import VehicleSpec, load_vehicle
 
 __all__ = ["SimRun", "simulate", "SCENARIOS"]
@@ -113,6 +116,7 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
         res = run_ramp(spec, f, r, radius=radius)
         doc = {"scenario": "ramp", **res.to_json()}
         points = {role: points_from_ramp(res, role) for role in ("front", "rear")}
+        doc["envelope_limit_g"] = envelope_limit_g(res, tyres, points)
     else:
         from .transient import points_from_trace, run_braking_turn, run_step_steer
 
@@ -135,6 +139,25 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
         raise ValueRangeError(f"--strict: {warns[0]}" + (f" (and the {warns[1].split()[0]} tyre)" if len(warns) > 1
                                                          else ""))
     return SimRun(scenario, doc, res, spec, tyres, points, warns)
+
+
+def envelope_limit_g(ramp, tyres: dict, points: dict) -> float:
+    """The lateral acceleration [g] up to which every wheel of the ramp stays inside its tyre's declared envelope.
+
+    The ramp's steady states, in rising lateral acceleration, until the first one where a wheel's load or slip
+    angle leaves the ranges its tyre file declares (near the limit the inner wheels unload below the fitted
+    loads): what the fitted tyres vouch for; ``lateral_limit_g`` beyond it is the model extrapolated.
+    """
+    inside = np.ones(ramp.states["ay"].size, bool)
+    for role, pts in points.items():
+        v = tyres[role].validity()
+        for key in ("fz", "slip_angle"):
+            lo, hi = v[key]
+            val = getattr(pts, key)
+            inside &= np.all((val >= lo) & (val <= hi), axis=1)
+    out = np.flatnonzero(~inside)
+    last = (out[0] - 1) if out.size else inside.size - 1
+    return float(ramp.states["ay"][last] / G0) if last >= 0 else 0.0
 
 
 def _paper_notes(doc: dict, scenario: str, spec: VehicleSpec) -> dict:
