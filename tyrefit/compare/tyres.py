@@ -379,16 +379,8 @@ class Comparison:
                 ax.plot(np.degrees(aa), _mu(ta, fz, aa, **ev), "-", color=col, lw=1.5, label=format_load(lc.fz),
                         gid=f"a run {lc.run}")
                 ax.plot(np.degrees(aa), _mu(tb, fz, aa, **ev), "--", color=col, lw=1.5, gid=f"b run {lc.run}")
-            if lat_data:
-                d = np.array([lc.data["mean_abs_dmu_over_peak_vs_data"] for lc in lcs if lc.data is not None])
-                if d.size:
-                    title += f"\nvs data (worst load): {100 * d[:, 0].max():.1f} % / {100 * d[:, 1].max():.1f} %"
-            ax.set_title(title, fontsize=9)
-            ax.set_xlabel("slip angle [deg]")
-            ax.set_ylabel("-Fy/Fz [-]")
-            ax.grid(alpha=0.3)
-            if len(lcs) > 1:
-                ax.legend(fontsize=7, title="Fz", title_fontsize=7)
+            worst = [lc.data["mean_abs_dmu_over_peak_vs_data"] for lc in lcs if lc.data is not None] if lat_data else []
+            _finish_panel(ax, title, worst, "slip angle [deg]", "-Fy/Fz [-]", legend=len(lcs) > 1)
         for ax in axes[n:]:
             ax.set_visible(False)
         fig = axes[0].figure
@@ -475,16 +467,9 @@ class Comparison:
                         gid=f"{ch} b run {lc.run}")
             if len(lcs) == 1 and "Fz" not in title:
                 title += f", Fz {format_load(lcs[0].fz)}"
-            d = [rows[id(lc)]["data"]["mean_abs_diff_over_peak_vs_data"] for lc in lcs if "data" in rows[id(lc)]]
-            if d:
-                d = np.array(d)
-                title += f"\nvs data (worst load): {100 * d[:, 0].max():.1f} % / {100 * d[:, 1].max():.1f} %"
-            ax.set_title(title, fontsize=9)
-            ax.set_xlabel("slip ratio [-]" if ch == "fx" else "slip angle [deg]")
-            ax.set_ylabel({"fx": "Fx/Fz [-]", "mz": "Mz [N·m]", "mx": "Mx [N·m]"}[ch])
-            ax.grid(alpha=0.3)
-            if len(lcs) > 1:
-                ax.legend(fontsize=7, title="Fz", title_fontsize=7)
+            worst = [rows[id(lc)]["data"]["mean_abs_diff_over_peak_vs_data"] for lc in lcs if "data" in rows[id(lc)]]
+            _finish_panel(ax, title, worst, "slip ratio [-]" if ch == "fx" else "slip angle [deg]",
+                          {"fx": "Fx/Fz [-]", "mz": "Mz [N·m]", "mx": "Mx [N·m]"}[ch], legend=len(lcs) > 1)
         for ax in axes[n:]:
             ax.set_visible(False)
         fig = axes[0].figure
@@ -1127,3 +1112,16 @@ def compare_channels(tyre_a, tyre_b, loads: list, names, slip_range_deg=SLIP_RAN
             rows.append(row)
         channels[ch] = rows
     return channels, skipped
+
+
+def _finish_panel(ax, title: str, worst, xlabel: str, ylabel: str, legend: bool) -> None:
+    """Title (with the panel's worst score against the data, tyre a / tyre b), labels, grid, the load legend."""
+    if len(worst):
+        d = np.asarray(worst, float)
+        title += f"\nvs data (worst load): {100 * d[:, 0].max():.1f} % / {100 * d[:, 1].max():.1f} %"
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(alpha=0.3)
+    if legend:
+        ax.legend(fontsize=7, title="Fz", title_fontsize=7)

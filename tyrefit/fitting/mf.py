@@ -1622,6 +1622,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
         why, facts = identifiability(stage, pts, sw, any_peak=any_peak, version=version, peak_runs=peak_runs)
     if cap is not None:
         facts["mu_ceiling"] = cap
+    held_to = {"mu_cap": cap, "env": data.envelope()}  # the constraints' ceiling and the grid they hold over
     names = [k for k in stage.names if k in _known_names()]
     want = [k for k in names if k not in why]
     if vary_only is not None:
@@ -1648,7 +1649,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     lin = [k for k in _LINEAR.get(stage.name, ()) if k in want]
     if lin and multistart:
         # variable projection: a grid over the nonlinear coefficients, the linear ones solved exactly
-        pg = _Problem(stage, _thin(pts, _GRID_POINTS), base, want, nominal, version, "l2", scale, pkysign, mu_cap=cap, env=data.envelope())
+        pg = _Problem(stage, _thin(pts, _GRID_POINTS), base, want, nominal, version, "l2", scale, pkysign, **held_to)
         proj = _Projection(pg, lin, [k for k in want if k not in lin], base)
         starts = [dict(base, **proj.best(_GRID[stage.name]))]
         core = []
@@ -1662,10 +1663,10 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     for si, st in enumerate(starts):
         c = {k: (v if k in want else base.get(k, v)) for k, v in st.items()}
         if core and len(core) < len(want):
-            p1 = _Problem(stage, pts_s, c, core, nominal, version, "l2", scale, pkysign, mu_cap=cap, env=data.envelope())
+            p1 = _Problem(stage, pts_s, c, core, nominal, version, "l2", scale, pkysign, **held_to)
             c.update(p1.params(p1.solve(p1.theta(c), tol=1e-5)))
             nfev += p1.nfev
-        p2 = _Problem(stage, pts_s, c, want, nominal, version, "l2", scale, pkysign, mu_cap=cap, env=data.envelope())
+        p2 = _Problem(stage, pts_s, c, want, nominal, version, "l2", scale, pkysign, **held_to)
         th = p2.solve(p2.theta(c), tol=1e-6)
         obj = p2.objective(th)
         nfev += p2.nfev
@@ -1674,13 +1675,13 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
             best = (obj, p2, th)
     _, prob_s, th = best
     pts_p = _thin(pts, _POLISH_POINTS)
-    prob = _Problem(stage, pts_p, prob_s.params(th), want, nominal, version, "l2", scale, pkysign, mu_cap=cap, env=data.envelope()) \
+    prob = _Problem(stage, pts_p, prob_s.params(th), want, nominal, version, "l2", scale, pkysign, **held_to) \
         if len(pts_s) < len(pts_p) else prob_s
     n_before = prob.nfev
     th = prob.solve(th, tol=1e-10, max_nfev=_SECONDARY_NFEV if secondary else _POLISH_NFEV)
     nfev += prob.nfev - n_before
     if cost == "l1":  # Komana et al. Eq. 5: the core's pseudo-Huber continuation from the l2 solution
-        pl1 = _Problem(stage, pts_p, prob.params(th), want, nominal, version, "l1", scale, pkysign, mu_cap=cap, env=data.envelope())
+        pl1 = _Problem(stage, pts_p, prob.params(th), want, nominal, version, "l1", scale, pkysign, **held_to)
         th1 = pl1.solve(pl1.theta(prob.params(th)))
         nfev += pl1.nfev
         prob, th = pl1, th1
@@ -1701,7 +1702,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
         q = prob.params(th)
         q[k] = n0
         rest = [n for n in want if n != k]
-        trial = _Problem(stage, pts_p, q, rest, nominal, version, prob.cost, scale, pkysign, mu_cap=cap, env=data.envelope())
+        trial = _Problem(stage, pts_p, q, rest, nominal, version, prob.cost, scale, pkysign, **held_to)
         th1 = trial.solve(trial.theta(q), tol=1e-8, max_nfev=_HOLD_NFEV) if rest else np.zeros(0)
         nfev += trial.nfev
         sse0, s2 = _weighted_sse(prob, th)

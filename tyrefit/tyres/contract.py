@@ -304,4 +304,5 @@ def _aligning(forces, env, fz, cam, pr, r0: float) -> list[Violation]:
     worst = float(np.nanmax(np.where(bad, val, -np.inf)))
     return [Violation("aligning", "Mz", worst, where,
                       f"Mz: the aligning moment does not align the wheel (Mz of the sign of Fy: a negative "
-                      f"pneumatic trail, QDZ1-QDZ4, or a residual torque against it, QDZ6-QDZ11) at {where} (Mz {mz[i]:.3g} N*m, Fy {fy[i]:.4g} N)")]
+                      f"pneumatic trail, QDZ1-QDZ4, or a residual torque against it, QDZ6-QDZ11) at {where} "
+                      f"(Mz {mz[i]:.3g} N*m, Fy {fy[i]:.4g} N)")]
