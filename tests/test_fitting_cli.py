@@ -98,6 +98,7 @@ def test_effects_with_monkeypatched_resolver(lateral_csv, tmp_path, monkeypatch,
         return vary, [f"{i}: test note" for i in ids]
 
     fake.resolve_pac89 = resolve_pac89
+    fake.EFFECTS = {}  # no catalogue entries: every requested effect is carried
     monkeypatch.setitem(sys.modules, "tyrefit.effects", fake)
     import tyrefit
 
@@ -117,6 +118,7 @@ def test_effects_lower_the_error(lateral_csv, monkeypatch):
 
     fake = types.ModuleType("tyrefit.effects")
     fake.resolve_pac89 = lambda ids: (["a0", "a2", "a3", "a4", "a7"] + (["a5", "a8", "a11"] if ids else []), [])
+    fake.EFFECTS = {}
     monkeypatch.setitem(sys.modules, "tyrefit.effects", fake)
     import tyrefit
 

@@ -10,15 +10,13 @@
     cmp = tf.compare(tyre_a, tyre_b, data=ds)
     sim = tf.simulate("ramp", front=mf.tyre, rear=mf.tyre, vehicle="fsae")
 
-:func:`fit` runs the very code of ``tyrefit fit`` (:func:`tyrefit.commands.fit.fit_file` and
-:func:`tyrefit.commands.fit_mf.fit_mf_files`), so the same data and options give the same tyre file; the
-workflow itself is still to be moved out of ``commands/`` into the library (issue 27), behind this API.
+:func:`fit` is the workflow :func:`tyrefit.workflows.fit.fit` that ``tyrefit fit`` and ``tyrefit batch fit``
+also run, so the same data and options give the same tyre file.
 """
 
 from __future__ import annotations
 
 import os
-from argparse import Namespace
 from collections.abc import Sequence
 
 from .errors import DataError
@@ -78,39 +76,11 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
     ``tyre`` (``to_tir``, ``forces``), ``summary()``, ``plot(ax=None)``, ``to_frame()``, ``report(dir)``,
     ``_repr_html_``.
     """
-    if model not in _MODELS:
-        raise DataError(f"model={model!r}: one of {', '.join(_MODELS)}")
-    items = list(data) if isinstance(data, (list, tuple)) else [data]
-    if not items:
-        raise DataError("data: give at least one record")
-    eff = effects if isinstance(effects, str) or effects is None else ",".join(effects)
-    args = Namespace(model=model, cost=cost, effects=eff, size=size, rated_load=rated_load, patch=_path(patch),
-                     rig=_path(rig), vertical=_path(vertical), static_part=static_part, convention=convention,
-                     allow_mirrored=allow_mirrored, by=None, json=None, report=None)
-    if model != "pac89":
-        for name, v in (("patch", patch), ("rig", rig), ("vertical", vertical)):
-            if v is not None:
-                raise DataError(f"{name}=: static-rig inputs are for model='pac89'; a Magic Formula fit takes "
-                                "dynamic-rig slip sweeps")
-        from .commands.fit_mf import fit_mf_files
+    from .workflows.fit import fit as _fit
 
-        result, start = fit_mf_files(args, [i if hasattr(i, "df") else os.fspath(i) for i in items])
-        result.start = start
-        return result
-    if len(items) > 1:
-        raise DataError(f"data: {len(items)} records; a PAC89 tyre is fitted to one record (several records of "
-                        "one tyre need model='mf61' or 'mf52')")
-    from .commands.fit import fit_file
-
-    item = items[0]
-    if hasattr(item, "df"):
-        args.data = str(getattr(item, "source", "") or "data")
-        result, extras = fit_file(args, ds=item)
-    else:
-        args.data = os.fspath(item)
-        result, extras = fit_file(args)
-    result.extras = extras
-    return result
+    return _fit(data, model=model, cost=cost, effects=effects, size=size, rated_load=rated_load,
+                patch=_path(patch), rig=_path(rig), vertical=_path(vertical), static_part=static_part,
+                convention=convention, allow_mirrored=allow_mirrored)
 
 
 def diagnose(data, *, start: Sequence[str] | None = None, rated_load: float | None = None,

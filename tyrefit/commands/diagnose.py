@@ -39,9 +39,11 @@ def run(args) -> int:
     notes: list[str] = []
     if ds.kind == "static":
         # static-rig pushes: the same Eq. 1 conversion as `tyrefit fit` (tyrefit.rig.prepare_static_fit)
-        from .fit import _static_input
+        from ..workflows.fit import static_input
 
-        sfi = _static_input(ds, args, notes)
+        sfi = static_input(ds, patch=getattr(args, "patch", None), rig=getattr(args, "rig", None),
+                           vertical=getattr(args, "vertical", None),
+                           static_part=getattr(args, "static_part", "peak") or "peak", rated_load=rated, notes=notes)
         ds = sfi.data
         notes[:0] = [f"static-rig pushes converted to slip angles with Komana et al. Eq. 1 "
                      f"({'calibrated' if sfi.rig.calibrated else 'uncalibrated, f = 1'}; part '{sfi.part}')"]
@@ -68,15 +70,10 @@ def _run_export(dg, ds, args) -> None:
     """Run the fit of the export command the report suggests, so the report states what that command gives.
 
     ``dg.export['fit_rmse']`` [N]: lateral RMSE of ``tyrefit fit DATA --effects <PAC89 export effects>``
-    (:func:`tyrefit.commands.fit.fit_file`, the same code the command runs).
+    (:func:`tyrefit.workflows.fit.fit_pac89_record`, the same code the command runs).
     """
-    import argparse
+    from ..workflows.fit import fit_pac89_record
 
-    from .fit import fit_file
-
-    eff = list(dg.export.get("effects", []))
-    ns = argparse.Namespace(data=args.data, convention=getattr(args, "convention", "iso") or "iso",
-                            effects=",".join(eff) or None, cost="l2", rated_load=getattr(args, "rated_load", None),
-                            patch=None, rig=None, vertical=None, static_part="peak")
-    result, _ = fit_file(ns, ds=ds)
+    result = fit_pac89_record(ds, name=str(args.data), cost="l2", effects=list(dg.export.get("effects", [])),
+                              rated_load=getattr(args, "rated_load", None))
     dg.export["fit_rmse"] = float(result.rmse)

@@ -12,161 +12,37 @@ the latter and the report shows both.
 
 from __future__ import annotations
 
-import inspect
 import math
-import warnings
 from pathlib import Path
 
 from ..errors import DataError
 from ..io.outputs import check_outputs
-from ..tyres.size import complete_design, size_and_rated_load
-from .fit_mf import check_mirror, run_mf
+from ..workflows.fit import _effect_ids, fit, fit_pac89_record, read_checked
+from .fit_mf import print_plausibility, run_mf
 
-__all__ = ["run", "fit_file"]
-
-
-def _read(path, convention, kind=None):
-    from ..io.readers import read_data
-
-    return read_data(path, convention=convention, kind=kind) if kind else read_data(path, convention=convention)
+__all__ = ["run", "fit_file", "options"]
 
 
-def _resolver():
-    try:
-        from ..effects import resolve_pac89
-    except ImportError:
-        raise DataError("--effects: the effects catalogue (tyrefit.effects) is not available in this "
-                        "installation") from None
-    return resolve_pac89
-
-
-def _static_input(ds, args, notes):
-    if not getattr(args, "patch", None):
-        raise DataError(f"{ds.source}: a static test needs --patch PATCH.csv for Eq. 1 (contact-patch length)")
-    from ..rig import prepare_static_fit
-
-    patch = _read(args.patch, "iso", "patch")
-    rig = None
-    if getattr(args, "rig", None):
-        from ..rig import RigCalibration
-
-        rig = RigCalibration.from_json(args.rig)
-    vertical = _read(args.vertical, "iso", "vertical") if getattr(args, "vertical", None) else None
-    kw = {"rig": rig, "part": getattr(args, "static_part", "peak") or "peak", "vertical_ds": vertical}
-    if getattr(args, "rated_load", None) is not None and \
-            "rated_load" in inspect.signature(prepare_static_fit).parameters:
-        kw["rated_load"] = args.rated_load
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        sfi = prepare_static_fit(ds, patch, **kw)
-    for w in caught:
-        notes.append(f"warning: {w.message}")
-    return sfi
-
-
-def _tyre_info(sfi, args, data_path) -> dict:
-    info: dict = {"name": Path(data_path).stem}
-    if sfi is not None:
-        ti = getattr(sfi, "tyre_info", None)
-        if isinstance(ti, dict):
-            info.update(ti)
-        else:
-            for k in ("lateral_stiffness", "vertical_stiffness", "fnomin", "vertical_curve"):
-                v = getattr(sfi, k, None)
-                if v is not None:
-                    info[k] = v
-            info["header"] = list(getattr(sfi, "notes", []))
-    if getattr(args, "rated_load", None) is not None:
-        info["fnomin"] = float(args.rated_load)
-    return info
+def options(args) -> dict:
+    """The PAC89 fit's keyword options (:func:`tyrefit.workflows.fit.fit_pac89_record`) from the flags."""
+    return {"cost": getattr(args, "cost", "l2") or "l2", "effects": _effect_ids(getattr(args, "effects", None)),
+            "size": getattr(args, "size", None), "rated_load": getattr(args, "rated_load", None),
+            "patch": getattr(args, "patch", None), "rig": getattr(args, "rig", None),
+            "vertical": getattr(args, "vertical", None), "static_part": getattr(args, "static_part", "peak") or "peak"}
 
 
 def fit_file(args, ds=None):
-    """Do the work of ``tyrefit fit`` (without writing); returns (result, extras).
+    """The fit of ``tyrefit fit`` (without writing); returns ``(result, result.extras)``.
 
-    ``ds``: the data already read (a subset for ``--by``); default: read ``args.data``.
-    ``extras``: ``static`` (StaticFitInput or None), ``start`` (FitResult of the
-    start model when ``--effects``), ``effects`` (ids), ``notes``.
+    ``ds``: the data already read and checked (a subset for ``--by``); default: read ``args.data``.
     """
-    from ..fitting import fit_pac89
-    from ..io.readers import check_fittable
-
-    notes: list[str] = []
-    size = _size_and_load(args)
     if ds is None:
-        ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
-        check_mirror(ds, args)
-    notes += [f"dropped {n} samples: {why}" for why, n in ds.meta.get("dropped", {}).items()]
-    sfi = None
-    if ds.kind == "static":
-        sfi = _static_input(ds, args, notes)
-        data = sfi.data
-    elif ds.kind in ("slip_angle", "slip_ratio"):
-        if not {"slip_angle", "slip_ratio"} <= set(ds.df.columns):
-            check_fittable(ds)
-        # a file with both slip-angle and slip-ratio sweeps: each sweep is classified and
-        # checked by tyrefit.fitting.prepare_data (combined-slip sweeps are left out, with a note)
-        data = ds
+        result = fit(args.data, convention=getattr(args, "convention", "iso") or "iso",
+                     allow_mirrored=bool(getattr(args, "allow_mirrored", False)), **options(args))
+        print_plausibility(result.plausibility)
     else:
-        raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a tyre model; fit needs slip-angle, "
-                        "slip-ratio or static-rig lateral tests")
-    info = _tyre_info(sfi, args, args.data)
-    # static 'peak' part: C (Eq. 2) and the peak-friction law measured by the static test itself
-    fixed = (getattr(sfi, "anchors", None) or None) if sfi is not None else None
-    extras = {"static": sfi, "start": None, "effects": [], "notes": notes, "dataset": ds}
-    effects = [e.strip() for e in (getattr(args, "effects", None) or "").split(",") if e.strip()]
-    if effects:
-        resolve = _resolver()
-        vary0, _ = resolve([])
-        vary1, enotes = resolve(effects)
-        notes += list(enotes)
-        # the effects choose lateral coefficients only: the longitudinal and aligning parts keep their full
-        # fit (every coefficient the data identify), never silent zeros
-        from ..models.pac89 import ALL
-
-        other = [k for k in ALL if k[0] in "bc"]
-        vary0, vary1 = list(vary0) + other, list(vary1) + other
-        extras["start"] = fit_pac89(data, cost=args.cost, vary=vary0, tyre_info=info, fixed=fixed)
-        extras["effects"] = effects
-        # the effects' model starts from the start model's solution
-        result = fit_pac89(data, cost=args.cost, vary=vary1, tyre_info=info, fixed=fixed,
-                           initial={k: v for k, v in extras["start"].values.items() if k.startswith("a")})
-        result.notes.append(f"effects {', '.join(effects)}: start-model RMSE {extras['start'].rmse:.4g} N -> "
-                            f"{result.rmse:.4g} N with the effects")
-        carried, dropped = _effects_split(effects)
-        result.model_label = "PAC89" + (" + " + ", ".join(carried) if carried else " start model")
-        for eid, why in dropped:
-            result.warnings.append(f"effect {eid} requested but NOT in the model: {why}")
-            result.tyre.header.append(f"WARNING: effect {eid} requested but NOT in the model: {why}")
-        extras["effects_carried"], extras["effects_dropped"] = carried, [e for e, _ in dropped]
-    else:
-        result = fit_pac89(data, cost=args.cost, tyre_info=info, fixed=fixed)
-    if sfi is not None and hasattr(sfi, "apply_to"):
-        sfi.apply_to(result.tyre)
-    notes += [n for n in complete_design(result.tyre, size, getattr(args, "rated_load", None))
-              if "ESTIMATED" in n or "not estimated" in n or n.startswith("no tyre size")]
-    result.notes.extend(n for n in notes if n not in result.notes)
-    return result, extras
-
-
-def _size_and_load(args):
-    """Validate ``--rated-load`` (finite, > 0) and parse ``--size``; the :class:`TyreSize` or None."""
-    return size_and_rated_load(getattr(args, "size", None), getattr(args, "rated_load", None))
-
-
-def _effects_split(effects):
-    """(effects PAC89 carries, [(effect, why) it cannot carry]) from the effects catalogue."""
-    import importlib
-
-    EFFECTS = getattr(importlib.import_module("tyrefit.effects"), "EFFECTS", {})
-    carried, dropped = [], []
-    for e in effects:
-        eff = EFFECTS.get(e)
-        if eff is None or eff.representable or eff.pac89 or eff.pac89_approx:
-            carried.append(e + ("" if eff is None or eff.representable else " (approximated)"))
-        else:
-            dropped.append((e, eff.pac89_note))
-    return carried, dropped
+        result = fit_pac89_record(ds, name=str(args.data), **options(args))
+    return result, result.extras
 
 
 def _report(result, extras, args, out: Path, rdir: Path | None = None, title: str | None = None) -> None:
@@ -196,7 +72,6 @@ def _report(result, extras, args, out: Path, rdir: Path | None = None, title: st
                  "fitted coefficients": result.stats[result.parts[0]]["varied"],
                  "RMSE [N]": result.rmse, "R²": result.stats[result.parts[0]]["r2"]}]
         r.table(rows)
-        import matplotlib
         from matplotlib.figure import Figure
 
         fig = Figure(figsize=(12, 4.2))
@@ -323,8 +198,9 @@ def _run_by(args, out: Path) -> int:
     from ..io.outputs import check_output, write_text
 
     ch = args.by
-    ds = _read(args.data, getattr(args, "convention", "iso") or "iso")
-    check_mirror(ds, args)
+    ds, plaus = read_checked(args.data, getattr(args, "convention", "iso") or "iso",
+                             bool(getattr(args, "allow_mirrored", False)))
+    print_plausibility(plaus)
     if ds.kind not in ("slip_angle", "slip_ratio"):
         raise DataError(f"{ds.source}: --by {ch} splits dynamic-rig sweeps; this file is a {ds.kind} test")
     if ch not in ds.df or not ds.df[ch].notna().any():
