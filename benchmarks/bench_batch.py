@@ -96,7 +96,7 @@ def run() -> dict:
 def _dask_row(db, tmp: Path, t_serial: float) -> dict:
     from distributed import Client, LocalCluster
 
-    from tyrefit.fitting.batch import batch_fit
+    from tyrefit.workflows.batch import batch_fit
 
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:

@@ -1,4 +1,4 @@
-"""Batch fitting (tyrefit.fitting.batch, ``tyrefit batch fit``) on synthetic databases with known coefficients."""
+"""Batch fitting (tyrefit.workflows.batch, ``tyrefit batch fit``) on synthetic databases with known coefficients."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from tyrefit.fitting.batch import BatchResult, batch_fit, find_data_files, fit_file
+from tyrefit.workflows.batch import BatchResult, batch_fit, find_data_files, fit_file
 from tyrefit.cli import main
 from tyrefit.errors import OutputExistsError
 from tyrefit.errors import DataError
@@ -115,7 +115,7 @@ def test_worker_processes_start_safely_when_the_caller_has_threads(tmp_path, db)
     """With a second thread alive the pool must not fork this process (forkserver instead)."""
     import threading
 
-    from tyrefit.fitting import batch
+    from tyrefit.workflows import batch
 
     stop = threading.Event()
     t = threading.Thread(target=stop.wait, daemon=True)
@@ -210,7 +210,7 @@ def test_bad_files_are_reported_and_skipped(tmp_path, db, capsys):
     table = pd.read_csv(tmp_path / "out" / "summary.csv").set_index("name")
     assert table.loc["tyre_0000", "status"] == "ok" and table.loc["tyre_0001", "status"] == "ok"
     for bad, words in (("binary", "binary"), ("empty", "empty"), ("no_units", "no unit"),
-                       ("braking", "fitting needs")):
+                       ("braking", "cannot be fitted")):
         assert table.loc[bad, "status"] == "failed"
         assert words in table.loc[bad, "error"] and "\n" not in table.loc[bad, "error"]
         assert f"tyrefit batch: {bad}: failed:" in err
@@ -221,7 +221,7 @@ def test_bad_files_are_reported_and_skipped(tmp_path, db, capsys):
 def test_internal_errors_are_recorded_with_traceback(tmp_path, db, monkeypatch):
     import tyrefit.fitting
 
-    def broken(ds, cost="l2"):
+    def broken(ds, cost="l2", **kw):
         raise ZeroDivisionError("a bug")
 
     monkeypatch.setattr(tyrefit.fitting, "fit_pac89", broken)

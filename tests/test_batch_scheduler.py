@@ -17,7 +17,7 @@ import pytest
 
 from tyrefit.cli import main
 from tyrefit.errors import DataError
-from tyrefit.fitting.batch import is_loopback, scheduler_address, scheduler_warning
+from tyrefit.workflows.batch import is_loopback, scheduler_address, scheduler_warning
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data" / "passenger" / "passenger_205_55R16.csv"
@@ -96,3 +96,28 @@ def test_cli_prints_the_warning_without_sending_anything(tmp_path, capsys, monke
     assert tried == [("10.255.255.1", 8786)]
     lines = err.strip().splitlines()
     assert len(lines) == 2 and "warning" in lines[0] and "pickled" in lines[0] and "error" in lines[1], err
+
+
+@pytest.mark.parametrize("content, words", [
+    (None, "cannot be read"),
+    ("not json", "not JSON"),
+    ('{"type": "Scheduler"}', "no 'address'"),
+    ('{"address": "ucx://127.0.0.1:1"}', "UCX"),
+    ('{"address": "tcp://127.0.0.1:1"}', "cannot connect"),
+])
+def test_scheduler_file_is_read_and_checked(tmp_path, capsys, content, words):
+    """``--scheduler-file``: the address Dask's scheduler wrote, with the same checks; bad files are one line."""
+    sf = tmp_path / "scheduler.json"
+    if content is not None:
+        sf.write_text(content)
+    assert main(["batch", "fit", str(DATA), "--out", str(tmp_path / "o"), "--scheduler-file", str(sf)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and words in err and "Traceback" not in err, err
+    assert not (tmp_path / "o").exists()
+
+
+def test_scheduler_and_scheduler_file_exclude_each_other(tmp_path, capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["batch", "fit", str(DATA), "--out", str(tmp_path / "o"), "--scheduler", "tcp://127.0.0.1:1",
+              "--scheduler-file", str(tmp_path / "s.json")])
+    assert e.value.code == 2 and "not allowed with" in capsys.readouterr().err

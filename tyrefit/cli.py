@@ -203,12 +203,18 @@ def build_parser() -> argparse.ArgumentParser:
     b = bsub.add_parser("fit", parents=[common], help="fit every data file in a folder or glob")
     b.add_argument("source", metavar="DIR_OR_GLOB")
     b.add_argument("--out", required=True, metavar="DIR")
-    b.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (tcp://host:8786)")
+    sched = b.add_mutually_exclusive_group()
+    sched.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (tcp://host:8786, tls://...)")
+    sched.add_argument("--scheduler-file", metavar="FILE",
+                       help="Dask scheduler file (written by 'dask scheduler --scheduler-file FILE')")
     b.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: CPU count)")
     b.add_argument("--cost", choices=("l1", "l2", "soft_l1", "huber"), default="l2")
     b.add_argument("--model", choices=("pac89", "mf52", "mf61"), default="pac89",
                    help="tyre model family of every tyre written (default pac89)")
+    b.add_argument("--manifest", metavar="TYRES.csv",
+                   help="per-file design data: columns file, size, rated_load [N] (as fit --size --rated-load)")
     _convention(b)
+    _allow_mirrored(b)
 
     p = sub.add_parser("inspect", parents=[common], help="say what a data or tyre file holds")
     p.add_argument("file", metavar="FILE")
@@ -332,7 +338,7 @@ def _run(args: argparse.Namespace) -> int:
     for m in ("numpy", "pandas"):  # the libraries every command imports, still under the start-up handler
         importlib.import_module(m)
     _set_sigint(_run_interrupt)  # from here a Ctrl-C unwinds: staged outputs are removed, exit 130
-    if args.command == "batch":  # a batch commits each tyre as it finishes (tyrefit.fitting.batch)
+    if args.command == "batch":  # a batch commits each tyre as it finishes (tyrefit.workflows.batch)
         with output_run(inputs, folders, force=getattr(args, "force", False)):
             _preflight(args, inputs, files, folders)
         return int(module.run(args) or 0)

@@ -1,6 +1,6 @@
 """``tyrefit batch fit DIR_OR_GLOB --out DIR [--scheduler ADDRESS] [--workers N]``.
 
-Fits every data file with :func:`tyrefit.fitting.batch.batch_fit` and prints one
+Fits every data file with :func:`tyrefit.workflows.batch.batch_fit` and prints one
 summary line on stdout.  A bad file does not stop the batch: it is listed on
 stderr (one line each) and in ``DIR/summary.csv`` / ``DIR/index.html``.
 
@@ -16,7 +16,7 @@ import argparse
 import sys
 import warnings
 
-from ..fitting.batch import SchedulerWarning, batch_fit, scheduler_address
+from ..workflows.batch import SchedulerWarning, batch_fit, scheduler_address, scheduler_from_file
 
 #: failures listed on stderr before "... and N more"
 _MAX_LISTED = 20
@@ -26,14 +26,19 @@ def run(args: argparse.Namespace) -> int:
     """Run ``tyrefit batch <command>``; return the exit code."""
     if args.batch_command != "fit":  # pragma: no cover - argparse allows only 'fit'
         raise SystemExit(2)
-    scheduler = args.scheduler if scheduler_address(args.scheduler) is not None else None  # '' runs locally
+    if getattr(args, "scheduler_file", None):
+        scheduler = scheduler_from_file(args.scheduler_file)
+    else:
+        scheduler = args.scheduler if scheduler_address(args.scheduler) is not None else None  # '' runs locally
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", SchedulerWarning)
         try:
             res = batch_fit(args.source, args.out, workers=args.workers, scheduler=scheduler, force=args.force,
                             progress=True, cost=getattr(args, "cost", "l2"),
                             convention=getattr(args, "convention", "iso"),
-                            model=getattr(args, "model", "pac89") or "pac89")
+                            model=getattr(args, "model", "pac89") or "pac89",
+                            manifest=getattr(args, "manifest", None),
+                            allow_mirrored=bool(getattr(args, "allow_mirrored", False)))
         finally:
             for w in caught:
                 if issubclass(w.category, SchedulerWarning):

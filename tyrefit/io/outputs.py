@@ -27,7 +27,7 @@ One output layer serves every command.
   an output that is a folder, a full disk or ``File too large`` become an
   :class:`~tyrefit.errors.OutputError` that names the path.
 
-Batch folders (:mod:`tyrefit.fitting.batch`) are the one deliberate
+Batch folders (:mod:`tyrefit.workflows.batch`) are the one deliberate
 exception to run-wide staging: a batch of thousands of tyres commits each
 tyre (its ``.tir`` and fingerprint) as it finishes, so an interrupted batch
 keeps its finished tyres; every file is still written atomically and never

@@ -1,6 +1,6 @@
 """Batch fitting of a tyre database: local processes or a Dask cluster.
 
-:func:`batch_fit` fits a PAC89 tyre to every data file it is given (CSV with
+:func:`batch_fit` fits a tyre (PAC89, or MF 6.1/5.2) to every data file it is given (CSV with
 unit headers, TYDEX ``.tdx``, FSAE TTC ``.dat``) and writes, in the output
 folder,
 
@@ -77,7 +77,7 @@ import numpy as np
 from ..errors import DataError, OutputExistsError, TyrefitError
 from ..io.outputs import write_text
 
-__all__ = ["BatchResult", "batch_fit", "find_data_files", "fit_file", "fit_quality", "SUMMARY_COLUMNS",
+__all__ = ["BatchResult", "batch_fit", "find_data_files", "fit_file", "fit_quality", "read_manifest", "SUMMARY_COLUMNS",
            "DATA_SUFFIXES"]
 
 #: data-file suffixes a folder is searched for (case-insensitive)
@@ -86,7 +86,8 @@ DATA_SUFFIXES = (".csv", ".tdx", ".dat")
 SUMMARY_COLUMNS = ("name", "status", "points", "sweeps", "rmse", "r2", "peak_mu", "fz_min", "fz_max",
                    "time_s", "error", "source", "tir")
 #: modules every worker needs; imported once per worker (fork-server preload / Client.run)
-_WARM_MODULES = ("tyrefit.fitting.batch", "tyrefit.io.readers", "tyrefit.fitting", "tyrefit.io.tir", "lmfit")
+_WARM_MODULES = ("tyrefit.workflows.batch", "tyrefit.workflows.fit", "tyrefit.io.readers", "tyrefit.fitting",
+                 "tyrefit.io.tir", "lmfit")
 _STATUS_DIR = "status"
 
 
@@ -241,11 +242,15 @@ def _read_json(path: Path) -> dict | None:
 
 
 def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2", convention: str = "iso",
-             status_path: str | None = None, fingerprint: dict | None = None,
-             model: str = "pac89") -> dict[str, Any]:
-    """Read one data file, fit PAC89 (or ``model`` 'mf61'/'mf52'), write the ``.tir`` (replacing it) and the status record.
+             status_path: str | None = None, fingerprint: dict | None = None, model: str = "pac89",
+             size: str | None = None, rated_load: float | None = None,
+             allow_mirrored: bool = False) -> dict[str, Any]:
+    """Read one data file, fit it (:func:`tyrefit.workflows.fit.fit`, the code of ``tyrefit fit``), write the
+    ``.tir`` (replacing it) and the status record.
 
-    This is the task every worker runs; it never raises for a bad file.
+    ``size`` and ``rated_load`` complete the tyre's design data as ``fit --size --rated-load`` does (a
+    manifest gives them per file, :func:`read_manifest`).  This is the task every worker runs; it never
+    raises for a bad file.
 
     Returns
     -------
@@ -256,17 +261,16 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
     rec: dict[str, Any] = {"name": name or Path(source).stem, "status": "failed", "source": str(source),
                            "tir": str(tir), "error": ""}
     try:
-        from . import fit_pac89
-        from ..io.readers import read_data
+        from .fit import fit
 
-        ds = read_data(source, convention=convention)
-        if model != "pac89":  # Magic Formula: tyrefit.fitting.mf; quality from the fit's own statistics
-            rec.update(_fit_mf(ds, tir, model, cost))
+        result = fit(source, model=model, cost=cost, convention=convention, size=size, rated_load=rated_load,
+                     allow_mirrored=allow_mirrored)
+        if model != "pac89":  # Magic Formula: the written file is checked against the tyre contract
+            result.write_tir(tir, force=True)
+            rec.update(_mf_quality(result))
         else:
-            result = fit_pac89(ds, cost=cost)
-            tyre = result.tyre
-            tyre.to_tir(tir, force=True)  # the caller decided that this .tir may be (re)written
-            rec.update(_fit_quality_from_result(result, tyre, ds))
+            result.tyre.to_tir(tir, force=True)  # the caller decided that this .tir may be (re)written
+            rec.update(_fit_quality_from_result(result, result.tyre, result.extras["dataset"]))
         if fingerprint is not None:  # what this .tir was fitted from: decides 'up to date' next time
             write_text(_sidecar(tir), json.dumps({**fingerprint, "tir_sha256": _sha256(tir)}, indent=1) + "\n",
                        force=True)
@@ -287,18 +291,9 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
     return rec
 
 
-def _fit_mf(ds, tir: str, model: str, cost: str) -> dict[str, Any]:
-    """Fit a Magic Formula tyre to ``ds`` and write it; the summary fields (Fy, else Fx, as for PAC89)."""
-    from ..tyres.size import complete_mf_design, loaded_radius_law
-    from .mf import fit_mf
-
-    measured = loaded_radius_law([ds])  # R0 enters Mz, Mx, My: known before the fit
-    result = fit_mf(ds, model=model, cost=cost,
-                    tyre_info={"unloaded_radius": measured["UNLOADED_RADIUS"]} if "UNLOADED_RADIUS" in measured else None)
-    lines, _ = complete_mf_design(result.params, measured=measured,
-                                  pressure_from_data="pressure" in ds.df.columns and bool(ds.df["pressure"].notna().any()))
-    result.tyre_info["header"] = list(result.tyre_info.get("header", [])) + lines  # origin of each design value
-    result.write_tir(tir, force=True)
+def _mf_quality(result) -> dict[str, Any]:
+    """Summary fields of a Magic Formula fit to one record (Fy for slip-angle data, else Fx, as for PAC89)."""
+    ds = result.datasets[0]
     s = result.stats.get("fy" if ds.kind == "slip_angle" else "fx") or next(iter(result.stats.values()))
     fz = ds.df["fz"].to_numpy(float)
     mu = result.params.get("PDY1" if ds.kind == "slip_angle" else "PDX1", math.nan)
@@ -307,9 +302,9 @@ def _fit_mf(ds, tir: str, model: str, cost: str) -> dict[str, Any]:
 
 
 def _fit_task(task: tuple) -> dict[str, Any]:
-    source, tir, name, cost, convention, status_path, fp, *rest = task
+    source, tir, name, cost, convention, status_path, fp, model, design = task
     return fit_file(source, tir, name=name, cost=cost, convention=convention, status_path=status_path,
-                    fingerprint=fp, model=rest[0] if rest else "pac89")
+                    fingerprint=fp, model=model, **design)
 
 
 def _jsonable(rec: dict) -> dict:
@@ -392,20 +387,112 @@ class BatchResult:
                 f"{self.n_failed} failed; {self.elapsed:.1f} s on {self.backend})")
 
 
+# --------------------------------------------------------------------------- manifest
+
+def read_manifest(path: str | os.PathLike, files: Sequence[Path]) -> dict[Path, dict[str, Any]]:
+    """Per-file design data for a batch: ``{data file: {"size": ..., "rated_load": ...}}``.
+
+    The manifest is a CSV with a ``file`` column (a path relative to the manifest's folder, or a file
+    name found once among the batch's data files) and either or both of ``size`` (``385/65R22.5``,
+    ``16x7.5-10``) and ``rated_load`` with its unit in the header (``rated_load [N]``, ``[kN]``,
+    ``[lbf]``, ``[kg]``).  These are what ``tyrefit fit --size --rated-load`` takes for one file, so a
+    batch tyre gets the same dimensions, FNOMIN and estimates as one fitted alone.  Data files without
+    a row are fitted without design data; a row that names no data file of the batch is an error.
+    """
+    import csv
+
+    from ..nomenclature import UnitError, dimension_of, parse_header, to_si
+    from ..tyres.size import size_and_rated_load
+
+    mpath = Path(path)
+    try:
+        text = mpath.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise DataError(f"manifest {mpath}: cannot be read ({exc.__class__.__name__}: {exc})") from None
+    rows = list(csv.reader(text.splitlines()))
+    rows = [r for r in rows if any(c.strip() for c in r)]
+    if not rows:
+        raise DataError(f"manifest {mpath}: empty; it needs a header 'file,size,rated_load [N]' and a row per tyre")
+    cols = {}
+    for k, h in enumerate(rows[0]):
+        name, unit = parse_header(h)
+        if name in cols:
+            raise DataError(f"manifest {mpath}: column {name!r} appears twice")
+        cols[name] = (k, unit)
+    if "file" not in cols or not ({"size", "rated_load"} & set(cols)):
+        raise DataError(f"manifest {mpath}: header {','.join(rows[0])!r} needs 'file' and 'size' and/or "
+                        "'rated_load [N]'")
+    unknown = sorted(set(cols) - {"file", "size", "rated_load"})
+    if unknown:
+        raise DataError(f"manifest {mpath}: unknown column(s) {', '.join(unknown)}; accepted: file, size, "
+                        "rated_load [N]")
+    unit = cols.get("rated_load", (0, None))[1]
+    if "rated_load" in cols:
+        if unit is None:
+            raise DataError(f"manifest {mpath}: 'rated_load' needs its unit in the header, e.g. 'rated_load [N]'")
+        try:
+            scale = float(to_si(1.0, unit))
+            ok = dimension_of(unit) in ("force", "mass")
+        except UnitError as exc:
+            raise DataError(f"manifest {mpath}: rated_load [{unit}]: {exc}") from None
+        if not ok:
+            raise DataError(f"manifest {mpath}: rated_load [{unit}] is not a force; accepted: [N], [kN], [lbf], "
+                            "[kg] (a load in kg is taken as kg x g)")
+    by_name: dict[str, list[Path]] = {}
+    for f in files:
+        by_name.setdefault(Path(f).name, []).append(Path(f).resolve())
+    out: dict[Path, dict[str, Any]] = {}
+    for line, row in enumerate(rows[1:], start=2):
+        def cell(c):
+            k = cols[c][0] if c in cols else None
+            return row[k].strip() if k is not None and k < len(row) else ""
+
+        where = f"manifest {mpath}, line {line}"
+        ref = cell("file")
+        if not ref:
+            raise DataError(f"{where}: no file named")
+        cand = (mpath.parent / ref).resolve()
+        if cand not in {Path(f).resolve() for f in files}:
+            hits = by_name.get(Path(ref).name, [])
+            if len(hits) != 1:
+                raise DataError(f"{where}: {ref!r} is " + ("none of the batch's data files" if not hits else
+                                f"{len(hits)} of the batch's data files; give its path relative to the manifest"))
+            cand = hits[0]
+        if cand in out:
+            raise DataError(f"{where}: {ref!r} has a row already")
+        design: dict[str, Any] = {}
+        if cell("size"):
+            design["size"] = cell("size")
+        if cell("rated_load"):
+            try:
+                v = float(cell("rated_load")) * scale
+            except ValueError:
+                raise DataError(f"{where}: rated_load {cell('rated_load')!r} is not a number") from None
+            design["rated_load"] = v
+        try:
+            size_and_rated_load(design.get("size"), design.get("rated_load"))
+        except DataError as exc:
+            raise DataError(f"{where}: {exc}") from None
+        out[cand] = design
+    return out
+
+
 # --------------------------------------------------------------------------- orchestration
 
-def _plan(paths: Sequence[Path], out: Path, force: bool,
-          options: dict[str, Any] | None = None) -> tuple[list[tuple], list[dict]]:
+def _plan(paths: Sequence[Path], out: Path, force: bool, options: dict[str, Any] | None = None,
+          design: dict[Path, dict[str, Any]] | None = None) -> tuple[list[tuple], list[dict]]:
     """Tasks to run and records of tyres not to run (up to date, or refused).
 
-    Each task carries the fingerprint (:func:`fingerprint`) the worker records beside the ``.tir``.
+    Each task carries the fingerprint (:func:`fingerprint`) the worker records beside the ``.tir``; a
+    file's design data (``design``, from the manifest) are part of its options.
     """
-    options = dict(options or {})
+    options, design = dict(options or {}), dict(design or {})
     tasks, done = [], []
     sdir = out / _STATUS_DIR
     for path, name in zip(paths, _tyre_names(paths)):
         tir, status = out / f"{name}.tir", sdir / f"{name}.json"
-        fp = fingerprint(path, options)
+        own = design.get(Path(path).resolve(), {})
+        fp = fingerprint(path, {**options, **own})
         if tir.exists() and not force:
             prev = _read_status(status)
             side = _read_json(_sidecar(tir))
@@ -429,7 +516,7 @@ def _plan(paths: Sequence[Path], out: Path, force: bool,
                              "error": _one_line(err), "time_s": 0.0})
                 continue
             # ours but stale (source, options or version changed), or written before fingerprints: refit
-        tasks.append((str(path), str(tir), name, None, None, str(status), fp))
+        tasks.append((str(path), str(tir), name, None, None, str(status), fp, own))
     return tasks, done
 
 
@@ -578,6 +665,28 @@ def scheduler_address(scheduler) -> tuple[str, str, int] | None:
     return scheme, host, port
 
 
+def scheduler_from_file(path: str | os.PathLike) -> str:
+    """The scheduler address in a Dask scheduler file (``dask scheduler --scheduler-file FILE`` writes it).
+
+    Dask writes ``{"type": "Scheduler", "address": "tls://10.0.0.5:8786", ...}``; the address is then
+    checked like a ``--scheduler`` address (:func:`scheduler_address`).  TLS still takes its
+    certificates from Dask's security configuration.
+    """
+    p = Path(path)
+    try:
+        info = json.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise DataError(f"--scheduler-file {p}: cannot be read ({exc.strerror or exc.__class__.__name__})") from None
+    except ValueError:
+        raise DataError(f"--scheduler-file {p}: not a Dask scheduler file (not JSON)") from None
+    address = info.get("address") if isinstance(info, dict) else None
+    if not isinstance(address, str) or not address.strip():
+        raise DataError(f"--scheduler-file {p}: no 'address' in it; Dask's scheduler writes one with "
+                        "'dask scheduler --scheduler-file FILE'")
+    scheduler_address(address)
+    return address.strip()
+
+
 def is_loopback(host: str) -> bool:
     """Is ``host`` this machine (``localhost``, 127.0.0.0/8, ``::1``)?  Names are not resolved."""
     import ipaddress
@@ -687,7 +796,8 @@ def _run_dask(tasks, client, progress: bool):
 
 def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, scheduler=None,
               force: bool = False, progress: bool = True, cost: str = "l2", convention: str = "iso",
-              summary: bool = True, model: str = "pac89") -> BatchResult:
+              summary: bool = True, model: str = "pac89", manifest: str | os.PathLike | None = None,
+              allow_mirrored: bool = False) -> BatchResult:
     """Fit a PAC89 tyre to every data file; write ``.tir`` files, status records and a summary.
 
     Parameters
@@ -717,6 +827,12 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
         sign convention of the data files.
     summary : bool
         write ``summary.csv`` and ``index.html``.
+    manifest : path, optional
+        a CSV of per-file ``size`` and ``rated_load [N]`` (:func:`read_manifest`): each tyre gets the
+        design data ``tyrefit fit --size --rated-load`` would give it.
+    allow_mirrored : bool
+        fit records whose camber thrust, trail or Fx has the sign of a mirrored tyre (refused otherwise,
+        :func:`tyrefit.io.plausibility.check_mirrored`).
 
     Returns
     -------
@@ -741,6 +857,9 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     if out.exists() and not out.is_dir():
         raise DataError(f"{out}: exists and is not a folder; --out needs a folder for the .tir files")
     files = find_data_files(paths, exclude=out)
+    design = read_manifest(manifest, files) if manifest is not None else {}
+    if allow_mirrored:
+        design = {f: {**design.get(Path(f).resolve(), {}), "allow_mirrored": True} for f in files}
     if summary and not force and not (out / _STATUS_DIR).is_dir():  # a folder the batch never wrote
         for n in ("summary.csv", "index.html"):
             if (out / n).exists():
@@ -755,12 +874,12 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
         (out / _STATUS_DIR).mkdir(exist_ok=True)
         # every option that changes the fitted tyre: a change refits (the fingerprint beside each .tir)
         options = {"cost": cost, "convention": convention, **({"model": model} if model != "pac89" else {})}
-        tasks, records = _plan(files, out, force, options)
+        tasks, records = _plan(files, out, force, options, design)
     except BaseException:
         if own_client:
             client.close()
         raise
-    tasks = [(s, t, n, cost, convention, st, fp, model) for (s, t, n, _, _, st, fp) in tasks]
+    tasks = [(s, t, n, cost, convention, st, fp, model, own) for (s, t, n, _, _, st, fp, own) in tasks]
 
     if client is not None:
         backend = f"dask({getattr(client, 'scheduler', None) and client.scheduler.address})"
