@@ -3,7 +3,7 @@
 Calibrates Eq. 1 on truck tyre A (tested on both rigs), fits tyre B from its
 static-rig tests only (calibrated and uncalibrated, parts 'peak' and
 'sliding'), and compares every model with tyre B's dynamic-rig data.  All the
-work is :func:`tyrefit.rig.study.sttr_vs_dttr`; this script reads the bundled
+work is :func:`tyrefit.workflows.sttr_vs_dttr.sttr_vs_dttr`; this script reads the bundled
 files and writes
 
     <out>/index.html           the report
@@ -27,7 +27,7 @@ from tyrefit.io.datasets import data_path
 from tyrefit.nomenclature import G0
 from tyrefit.io.outputs import staged_dir, write_text
 from tyrefit.io.readers import read_data
-from tyrefit.rig.study import sttr_vs_dttr
+from tyrefit.workflows.sttr_vs_dttr import sttr_vs_dttr
 from tyrefit.tyres.size import complete_design, parse_size
 
 

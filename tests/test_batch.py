@@ -219,12 +219,12 @@ def test_bad_files_are_reported_and_skipped(tmp_path, db, capsys):
 
 
 def test_internal_errors_are_recorded_with_traceback(tmp_path, db, monkeypatch):
-    import tyrefit.fitting
+    import tyrefit.workflows.fit
 
     def broken(ds, cost="l2", **kw):
         raise ZeroDivisionError("a bug")
 
-    monkeypatch.setattr(tyrefit.fitting, "fit_pac89", broken)
+    monkeypatch.setattr(tyrefit.workflows.fit, "fit_pac89", broken)
     status = tmp_path / "s.json"
     rec = fit_file(str(db.paths[0]), str(tmp_path / "t.tir"), status_path=str(status))
     assert rec["status"] == "error" and "ZeroDivisionError" in rec["error"]

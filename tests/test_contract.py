@@ -227,12 +227,12 @@ def test_records_whose_loaded_radii_disagree_are_said_and_the_free_rolling_one_u
 
 
 def test_json_flags_are_checked_before_any_work(tmp_path, monkeypatch, capsys):
-    import tyrefit.fitting as fitting
+    import tyrefit.workflows.fit as workflow
 
     def boom(*a, **k):  # pragma: no cover - must not be reached
         raise AssertionError("the fit ran before the flags were checked")
 
-    monkeypatch.setattr(fitting, "fit_pac89", boom)
+    monkeypatch.setattr(workflow, "fit_pac89", boom)
     csv = tmp_path / "d.csv"
     csv.write_text("fz [N],slip_angle [deg],fy [N]\n1000,1,-100\n")
     rc = main(["fit", str(csv), "--out", str(tmp_path / "t.tir"), "--json", str(tmp_path / "t.json")])

@@ -11,7 +11,7 @@ import tyrefit.fitting  # noqa: E402,F401 - part of the package: an import error
 
 @pytest.fixture(scope="module")
 def study():
-    from tyrefit.rig.study import sttr_vs_dttr
+    from tyrefit.workflows.sttr_vs_dttr import sttr_vs_dttr
 
     def r(name):
         return read_data(data_path("truck", name))

@@ -213,7 +213,7 @@ def test_library_never_switches_the_backend_or_imports_pyplot(tmp_path):
 import matplotlib, sys
 matplotlib.use("svg")
 import tyrefit.cli, tyrefit.io.report, tyrefit.diagnose.report, tyrefit.diagnose.views, tyrefit.sim.plots
-import tyrefit.compare.tyres, tyrefit.rig.study
+import tyrefit.compare.tyres, tyrefit.workflows.sttr_vs_dttr
 from tyrefit.fitting import fit_pac89
 from tyrefit.synthetic.pac89_example import lateral_sweeps
 r = fit_pac89(lateral_sweeps(loads=(3000.0, 6000.0), cambers_deg=(0.0,), slip_deg=range(-12, 13)))

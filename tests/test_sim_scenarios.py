@@ -149,7 +149,9 @@ def test_traction_exponent_is_the_bundled_fit_or_an_error(monkeypatch, setup):
 
     fit = traction_from_data(data_path("sim", "braking_utqg.csv")).fit
     assert setup.traction_b == fit.b and "braking_utqg" in setup.traction_source
-    monkeypatch.setattr(datasets, "data_path", lambda *parts: datasets.Path("/nonexistent/braking_utqg.csv"))
+    import tyrefit.sim.scenarios as scenarios
+
+    monkeypatch.setattr(scenarios, "data_path", lambda *parts: datasets.Path("/nonexistent/braking_utqg.csv"))
     with pytest.raises(DataError, match="traction_b"):
         SimSetup(front=setup.front, rear=setup.rear)
     chosen = SimSetup(front=setup.front, rear=setup.rear, traction_b="hpwizard")

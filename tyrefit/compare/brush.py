@@ -41,8 +41,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..models import brush as bm
-from ..models import pac89
+from ..models import brush as bm, pac89
+from ..fitting import fit_pac89
 
 __all__ = ["ModelComparison", "BrushComparison", "compare_brush_pac89", "LATERAL_VARY",
            "plot_sweeps", "plot_rmse", "plot_camber_thrust", "plot_cornering_stiffness", "plot_camber_stiffness"]
@@ -339,8 +339,6 @@ def _eq20(model: str, p: bm.BrushParams, fz, gamma, pressure, n):
 
 
 def _compare_model(model, p, loads, cambers, slips, pressure, mu, n, vary, single_fits) -> ModelComparison:
-    from ..fitting import fit_pac89
-
     F, G, A = np.meshgrid(loads, cambers, slips, indexing="ij")
     run = np.broadcast_to(np.arange(F.shape[0] * F.shape[1]).reshape(F.shape[:2])[..., None], F.shape)
     fy = _brush_fy(model, p, F, A, G, pressure, mu, n)

@@ -63,6 +63,8 @@ import pandas as pd
 
 from ..errors import DataError
 from ..nomenclature import G0
+from ..fitting.result import noise_floor_of
+from ..io.facets import facet_sweeps, format_condition, format_load
 
 __all__ = ["LoadComparison", "Comparison", "compare_tyres", "model_metrics", "data_metrics", "binned_curve",
            "SLIP_RANGE_DEG", "CHANNELS", "compare_channels", "channel_value", "fx_metrics", "mz_metrics",
@@ -205,8 +207,6 @@ class LoadComparison:
     @property
     def conditions(self) -> str:
         """The sweep's conditions in display units: ``'Fz 1.11 kN, camber 2.0°, pressure 83 kPa'``."""
-        from ..io.facets import format_condition, format_load
-
         t = [f"Fz {format_load(self.fz)}", format_condition("camber", self.camber)]
         if self.pressure is not None and np.isfinite(self.pressure):
             t.append(format_condition("pressure", self.pressure))
@@ -302,7 +302,7 @@ class Comparison:
                     "rmse_N": "root mean square of Fy_model - Fy_data over every point of the sweep (summary: of "
                               "all sweeps), each model at the point's load and camber - as fit and diagnose",
                     "noise_floor_N": "within-sweep noise floor, the one definition of fit and diagnose "
-                                     "(tyrefit.diagnose.stats.noise_floor)"},
+                                     "(tyrefit.fitting.noise.noise_floor)"},
                 "summary": self.summary(), "notes": list(self.notes),
                 "channels": {ch: {"quantity": CHANNEL_WORDS[ch], "loads": rows,
                                   "definitions": CHANNEL_DEFINITIONS[ch]} for ch, rows in self.channels.items()},
@@ -341,7 +341,6 @@ class Comparison:
         import matplotlib as mpl
         from matplotlib.figure import Figure
 
-        from ..io.facets import facet_sweeps, format_load
 
         ta, tb = self._tyres
         a_name, b_name = self.names
@@ -396,8 +395,6 @@ class Comparison:
 
     def _groups(self):
         """Panels: (title, [LoadComparison]) per condition level of the data, else one per load."""
-        from ..io.facets import facet_sweeps
-
         by_run = {lc.run: lc for lc in self.loads}
         if self._data is not None and all(lc.run is not None for lc in self.loads):
             chans = ("pressure", "speed", "slip_angle", "camber") if self.data_kind == "slip_ratio" else \
@@ -416,7 +413,6 @@ class Comparison:
         import matplotlib as mpl
         from matplotlib.figure import Figure
 
-        from ..io.facets import format_load
 
         if ch == "fy":
             return self.plot_overlay(axes)
@@ -749,8 +745,6 @@ def compare_tyres(tyre_a, tyre_b, data=None, *, loads=None, names: tuple[str, st
 
 def _sweep_floor(g: pd.DataFrame) -> float:
     """The within-sweep noise floor [N] of one sweep (the definition of fit and diagnose)."""
-    from ..fitting.result import noise_floor_of
-
     f, _ = noise_floor_of(g["slip_angle"].to_numpy(float), g["fy"].to_numpy(float), np.zeros(len(g), int),
                           g["fz"].to_numpy(float))
     return float(f)

@@ -20,6 +20,7 @@ import pandas as pd
 
 from ..effects.base import DataSummary, ModelInputs
 from ..errors import ColumnError, DataError
+from ..fitting.noise import MAX_POINTS_PER_SWEEP
 
 __all__ = ["SweepData", "prepare", "condition_levels", "FACTORS"]
 
@@ -231,7 +232,7 @@ def _frame_of(data) -> tuple[pd.DataFrame, str, dict]:
     raise DataError(f"diagnose needs a Dataset or a DataFrame, got {type(data).__name__}")
 
 
-def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = 100) -> SweepData:
+def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = MAX_POINTS_PER_SWEEP) -> SweepData:
     """Turn a Dataset (or a DataFrame with canonical SI columns) into :class:`SweepData`.
 
     Parameters

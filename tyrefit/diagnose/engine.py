@@ -124,6 +124,7 @@ from .result import Diagnosis
 from .steps import Candidate, Settings, Step  # noqa: F401  (public here too)
 from .stats import (MIN_FLIP_SWEEPS, SweepLayout, heldout_gain_null, cluster_bootstrap_prob, cluster_sums, crossval_surface, level_folds, noise_floor,
                     score_test_groups, screen_candidates, sweep_folds)
+from ..fitting.noise import _bspline_basis
 
 __all__ = ["Settings", "Step", "Candidate", "diagnose", "pac89_effects", "MISFIT_RATIO", "MISFIT_SHARE"]
 
@@ -695,8 +696,6 @@ def _condition_terms(d: SweepData) -> list[tuple[str, np.ndarray]]:
 
 def _surface_basis(d: SweepData, u: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Cubic B-splines in the normalised slip angle (knots every 10 % of the range) times the condition terms."""
-    from .stats import _bspline_basis
-
     S = _bspline_basis(np.r_[-1.0, u, 1.0], 0.2)[1:-1]
     terms = _condition_terms(d)
     C = np.column_stack([t for _, t in terms])

@@ -40,10 +40,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import BSpline
 
-from ..errors import FitError
-from ..fitting.core import Parameters, solve
+from ..fitting.noise import _bspline_basis, noise_floor  # noqa: F401  (diagnose's within-sweep floor)
 
 __all__ = ["ScoreTest", "score_test", "GroupScoreTest", "score_test_groups", "residualise", "holm", "noise_floor",
            "SweepLayout", "NoiseModel", "estimate_noise", "simulate_noise", "Screen", "screen_candidates",
@@ -272,124 +270,6 @@ def holm(p_values) -> np.ndarray:
         running = max(running, min(1.0, (m - rank) * p[i]))
         adj[i] = running
     return adj
-
-
-def _bspline_basis(x: np.ndarray, spacing: float) -> np.ndarray:
-    lo, hi = x.min(), x.max()
-    n_int = int(max(0, np.floor((hi - lo) / spacing) - 1))
-    interior = np.linspace(lo, hi, n_int + 2)[1:-1] if n_int > 0 else np.array([])
-    t = np.r_[[lo] * 4, interior, [hi] * 4]
-    return BSpline.design_matrix(x, t, 3).toarray()
-
-
-def _magic_formula_ssr(x: np.ndarray, y: np.ndarray) -> tuple[float, int]:
-    """SSR and dof of one Magic Formula (B, C, D, E, Sh, Sv) through a sparse sweep.
-
-    A sweep of ~25 points cannot feed a 1.5 deg knot spline and still leave
-    degrees of freedom for the noise; a single Magic Formula is the smooth curve
-    with the fewest parameters that follows a tyre's force curve through its
-    peak (Pacejka, Tyre and Vehicle Dynamics, Ch. 4).
-    """
-    n = len(x)
-    if n < 10:
-        return 0.0, 0
-    i = np.argsort(x)
-    x, y = x[i], y[i]
-    lin = np.abs(x - x[np.argmin(np.abs(x))]) <= max(np.ptp(x) / 8, 1e-9)
-    slope = np.polyfit(x[lin], y[lin], 1)[0] if lin.sum() >= 2 else (y[-1] - y[0]) / np.ptp(x)
-    d0 = max(np.abs(y).max(), 1e-9) * np.sign(slope or 1.0)
-    c0 = 1.4
-    p0 = np.array([slope / (c0 * d0), c0, d0, 0.0, 0.0, 0.0])
-
-    def res(p):
-        B, C, D, E, sh, sv = p
-        bx = B * (x + sh)
-        return D * np.sin(C * np.arctan(bx - E * (bx - np.arctan(bx)))) + sv - y
-
-    lo = [-np.inf, 0.1, -np.inf, -10.0, -np.ptp(x) / 4, -np.inf]
-    hi = [np.inf, 2.5, np.inf, 1.0, np.ptp(x) / 4, np.inf]
-    p0 = np.clip(p0, np.array(lo) + 1e-9, np.array(hi) - 1e-9)
-    params = Parameters()
-    for name, v, a, b in zip(("B", "C", "D", "E", "sh", "sv"), p0, lo, hi):
-        params.add(name, float(v), min=a, max=b)
-    try:  # the one fitting core (same trust-region least squares, x_scale 'jac', 400 evaluations)
-        sol = solve(res, params, max_nfev=400, stderr=False, what="Magic Formula through one sweep")
-    except (ValueError, np.linalg.LinAlgError, FitError):
-        return 0.0, 0
-    r = sol.resid
-    return float(r @ r), n - 6
-
-
-def _spline_ssr(x: np.ndarray, y: np.ndarray, spacing: float, load=None) -> tuple[float, int]:
-    """SSR and degrees of freedom of a cubic least-squares spline through (x, y).
-
-    With ``load``, a coarser spline times the relative load deviation is added,
-    so that point-to-point jitter of the measured load (which the model
-    explains) is not counted as noise.
-    """
-    if np.ptp(x) <= 0:
-        return 0.0, 0
-    B = _bspline_basis(x, spacing)
-    if load is not None:
-        dz = (load - load.mean()) / max(abs(load.mean()), 1e-9)
-        if np.ptp(dz) > 1e-6:
-            B = np.hstack([B, _bspline_basis(x, 4 * spacing) * dz[:, None]])
-    if len(x) - B.shape[1] < max(6, len(x) // 4):  # sparse sweep (1 deg steps): too little left for noise
-        return _magic_formula_ssr(x, y)
-    coef, _, rank, _ = np.linalg.lstsq(B, y, rcond=None)
-    r = y - B @ coef
-    return float(r @ r), int(len(x) - rank)
-
-
-def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5, fz=None) -> tuple[float, np.ndarray]:
-    """Within-sweep noise [N]: pooled RMSE of a smooth curve through each sweep.
-
-    Parameters
-    ----------
-    slip_angle : array_like
-        [rad].
-    fy : array_like
-        [N].
-    sweep : array_like of int
-    spacing_deg : float
-        Knot spacing [deg] of the cubic spline in slip angle; the Magic
-        Formula curve is smooth on this scale.
-    fz : array_like, optional
-        Measured load [N]; a coarse spline times its relative deviation within
-        the sweep absorbs the load jitter the model explains.
-
-    Returns
-    -------
-    floor : float
-        sqrt(sum SSR / sum dof) over the sweeps [N].
-    per_sweep : ndarray
-        The same per sweep [N] (NaN where a sweep is too short).
-
-    Notes
-    -----
-    This is the error no global model can beat *within* a sweep; slow drifts
-    and sweep-to-sweep offsets are absorbed by the per-sweep curves, so a
-    global model's RMSE can stay above it when the rig has such noise.
-    """
-    a = np.asarray(slip_angle, dtype=float)
-    y = np.asarray(fy, dtype=float)
-    z = None if fz is None else np.asarray(fz, dtype=float)
-    sw = np.asarray(sweep)
-    G = int(sw.max()) + 1
-    per = np.full(G, np.nan)
-    ssr_tot, dof_tot = 0.0, 0
-    for g in range(G):
-        m = sw == g
-        if m.sum() < 10:
-            continue
-        o = np.argsort(a[m], kind="stable")
-        ssr, dof = _spline_ssr(a[m][o], y[m][o], spacing_deg * _DEG, None if z is None else z[m][o])
-        if dof > 0:
-            per[g] = np.sqrt(ssr / dof)
-            ssr_tot += ssr
-            dof_tot += dof
-    floor = float(np.sqrt(ssr_tot / dof_tot)) if dof_tot > 0 else float("nan")
-    return floor, per
 
 
 def sweep_folds(sweep_cells: np.ndarray, k: int, rng: np.random.Generator) -> list[np.ndarray]:

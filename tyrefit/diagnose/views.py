@@ -12,6 +12,7 @@ from matplotlib.figure import Figure
 import pandas as pd
 
 from ..effects.signatures import SignatureView, sweep_characteristics
+from ..io.facets import _decimals, format_condition
 
 __all__ = ["even_odd", "plot_waterfall", "plot_residual_maps", "plot_even_odd", "plot_fit",
            "plot_cell_rmse", "signature_view", "facets"]
@@ -98,8 +99,6 @@ def _facet_mask(data, c, p):
 
 
 def _facet_title(data, c, p):
-    from ..io.facets import _decimals, format_condition  # the shared titles in display units ('camber 0.0°')
-
     t = format_condition("camber", float(data.levels["camber"][c]), _decimals("camber", data.levels["camber"]))
     if p is not None:
         t += ", " + format_condition("pressure", float(data.levels["pressure"][p]),

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from ..io.facets import _decimals, format_condition, format_load
 
 __all__ = ["sweep_characteristics", "SignatureView", "SIGNATURES", "plot"]
 
@@ -163,8 +164,6 @@ _TOL = {"fz": 200.0, "camber": 0.25 * _DEG, "pressure": 5e3, "speed": 1.0}
 def _group_label(channel: str, value: float, levels) -> str:
     """Legend label of a condition level in display units, rounded so that levels stay distinct
     ('camber 0.0°', not '-0.000451 deg'; :mod:`tyrefit.io.facets`)."""
-    from ..io.facets import _decimals, format_condition, format_load
-
     if channel == "fz":
         return format_load(value)
     return format_condition(channel, value, _decimals(channel, levels))

@@ -50,6 +50,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 import pandas as pd
 from scipy.optimize import brentq
+from ..models import pac89
 
 __all__ = [
     "SweepEstimate",
@@ -358,8 +359,6 @@ def aligning_initial(df: pd.DataFrame, x_scale: float) -> dict[str, float]:
     model (:func:`tyrefit.models.pac89.aligning_moment`) so that its initial
     slope has the sign of the data's; no sign convention is assumed here.
     """
-    from ..models import pac89
-
     c = {f"c{i}": 0.0 for i in range(18)}
     peaks, slopes, fzs = [], [], []
     for _, g in df.groupby("run"):

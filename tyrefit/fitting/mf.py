@@ -171,14 +171,14 @@ import pandas as pd
 from ..errors import DataError, FitError
 from ..tyres.contract import ALIGN_DEG, G_TOL, slip_grid
 from ..models import mf61
-from . import initial as ini
-from . import mf_parts
+from . import initial as ini, mf_parts
 from ._blas import single_threaded_blas
 from .core import Parameters, covariance, solve
 from .core import objective as core_objective
 from .mf_result import FitResultMF, _noise_floor
 from .mf_stages import (FX0, FXC, FY0, FYC, MX, MX_LINEAR, MY, MZ0, MZC, SPEED_FRICTION, STAGES,  # noqa: F401
                         _ONLY_61, _STAGE, Stage)
+from ..io.readers import read_data
 
 __all__ = ["fit_mf", "prepare_mf_data", "identifiability", "MFData", "FitResultMF", "STAGES",
            "EFFECT_COEFFICIENTS", "START_FY0", "effect_coefficients"]
@@ -389,8 +389,6 @@ def _as_frame(item, convention: str):
         return item, ""
     if hasattr(item, "df"):
         return item.df, str(getattr(item, "source", "") or "")
-    from ..io.readers import read_data
-
     ds = read_data(item, convention=convention)
     return ds.df, str(ds.source)
 

@@ -55,6 +55,7 @@ import numpy as np
 import pandas as pd
 
 from .initial import load_levels
+from ..models import mf61
 
 __all__ = ["VIEWS", "sweep_levels", "condition_cells", "nominal_slice", "views", "panels", "plot_curves",
            "plot_residual_map", "plot_cells", "ellipse_curves", "plot_friction_ellipse", "report_figures"]
@@ -406,8 +407,6 @@ def _thin(d: pd.DataFrame, max_dots: int) -> pd.DataFrame:
 def _model(result, rows: list[dict], n: int = 80) -> list[dict]:
     """Evaluate the fitted model along each row's slip range (``slip`` 'slip_ratio'/'slip_angle', ``lo hi``,
     ``fz camber pressure speed alpha``; pure-slip rows at the other slip 0), in one call."""
-    from ..models import mf61
-
     if not rows:
         return rows
     p = result.params

@@ -41,6 +41,12 @@ from .._version import __version__
 from ..models import mf61
 from .mf_stages import STAGES
 from .result import FLOOR_RATIO_WARN, noise_floor_of
+from ..errors import FitError
+from ..io.mf_tir import format_mf_tir, write_mf_tir
+from ..io.outputs import write_text
+from ..io.report import Report
+from ..tyres.contract import violations
+from ..tyres.mf import MFTyre
 
 __all__ = ["FitResultMF"]
 
@@ -245,8 +251,6 @@ class FitResultMF:
         with the peak-friction ceiling of the Fx0/Fy0 stages (1.15 x the data's peak |F|/Fz). Empty when
         the tyre keeps it.
         """
-        from ..tyres.contract import violations
-
         chans = [c for c in ("fx", "fy", "mz") if self.stats.get(c, {}).get("fitted")]
         ceiling = {ax: self.stages[st].facts.get("mu_ceiling") for ax, st in (("x", "Fx0"), ("y", "Fy0"))
                    if st in self.stages and self.stages[st].varied}
@@ -258,8 +262,6 @@ class FitResultMF:
         Raises :class:`~tyrefit.errors.FitError` and writes nothing when the tyre breaks the physical-validity
         contract (:meth:`contract`) or would be refused by tyrefit's own reader (:meth:`MFTyre.check`).
         """
-        from ..io.mf_tir import write_mf_tir
-
         self.require_valid()
 
         not_fitted = [s.name.lower() for s in STAGES if s.name != "Mz*"
@@ -276,8 +278,6 @@ class FitResultMF:
         # stay at their neutral values (held in the fit) so a 6.1 reader of the file gets the same tyre
         import re
 
-        from ..io.mf_tir import format_mf_tir
-        from ..io.outputs import write_text
 
         head = list(self.header()) + ["MF 5.2 coefficients (FITTYP = 6); the MF 6.1-only keys are neutral"]
         text = format_mf_tir(self.params, ranges=self.ranges(), header=head, not_fitted=tuple(not_fitted))
@@ -293,8 +293,6 @@ class FitResultMF:
     @property
     def tyre(self):
         """The fitted tyre (:class:`tyrefit.tyres.mf.MFTyre`): ``forces``, ``to_tir`` (the file ``fit`` writes)."""
-        from ..tyres.mf import MFTyre
-
         t = MFTyre(params=dict(self.params), family="MF52" if self.version == "5.2" else "MF61",
                    version=self.version, ranges=self.ranges(), fnomin=self.params.get("FNOMIN"),
                    unloaded_radius=self.params.get("UNLOADED_RADIUS"), nominal_pressure=self.params.get("NOMPRES"),
@@ -317,8 +315,6 @@ class FitResultMF:
 
     def to_html(self) -> str:
         """HTML fragment: statistics per channel and record, stages, coefficients, holds, notes (no figures)."""
-        from ..io.report import Report
-
         r = Report(f"Magic Formula {self.version} fit")
         r.h2("Fit quality per channel")
         r.table([{"channel": c.upper(), "RMSE": s["rmse"], "unit": s["unit"], "R²": s["r2"],
@@ -338,8 +334,6 @@ class FitResultMF:
         """Write the self-contained HTML report (the one ``fit --report`` writes) and ``fit.json`` to ``directory``."""
         import json
 
-        from ..io.outputs import write_text
-        from ..io.report import Report
 
         r = Report(title or f"Magic Formula {self.version} fit — {', '.join(map(os.path.basename, self.data.sources))}")
         self.report_blocks(r)
@@ -360,9 +354,6 @@ class FitResultMF:
 
     def require_valid(self) -> None:
         """Raise :class:`~tyrefit.errors.FitError` if the tyre breaks the contract or its reader's check."""
-        from ..errors import FitError
-        from ..tyres.mf import MFTyre
-
         problems = [str(v) for v in self.contract()]
         tyre = MFTyre(params=dict(self.params), family="MF52" if self.version == "5.2" else "MF61",
                       version=self.version, ranges=self.ranges(), fnomin=self.params.get("FNOMIN"),

@@ -11,7 +11,7 @@ Statistics (per part: lateral Fy, longitudinal Fx, aligning Mz)
   peak |F| measured;
 * R^2 = 1 - SS_res / SS_tot over all points of the part;
 * noise floor (``noise_floor``): the *within-sweep noise floor* of
-  :func:`tyrefit.diagnose.stats.noise_floor` -- the pooled RMSE of a smooth
+  :func:`tyrefit.fitting.noise.noise_floor` -- the pooled RMSE of a smooth
   curve (cubic spline, knots every 1.5 deg of slip angle or 0.03 of slip
   ratio, with a load-jitter term) through each sweep on its own.  ``fit``,
   ``diagnose`` and ``compare`` report this one definition under this name.
@@ -40,6 +40,11 @@ import pandas as pd
 
 from .._version import __version__
 from ..tyres.pac89 import Pac89Tyre
+from .noise import MAX_POINTS_PER_SWEEP, noise_floor as _nf
+from ..io.facets import (_DISPLAY, _decimals, channel_levels, describe_constant, facet_sweeps, format_load, pages,
+                         sweep_conditions)
+from ..io.outputs import check_output, write_text
+from ..io.report import Report
 
 __all__ = ["FitResult", "noise_floor_of", "NOISE_FLOOR_DEFINITION"]
 
@@ -385,8 +390,6 @@ class FitResult:
 
     def to_html(self) -> str:
         """HTML fragment: statistics, coefficient table, not-identifiable list, notes."""
-        from ..io.report import Report
-
         r = Report("PAC89 fit")
         self._report_blocks(r, figures=False)
         return "\n".join(r.blocks)
@@ -437,9 +440,6 @@ class FitResult:
 
     def report(self, directory: str | os.PathLike, force: bool = False, title: str | None = None) -> Path:
         """Write ``directory/index.html`` (figures embedded) and ``sweeps.csv``; returns the HTML path."""
-        from ..io.outputs import check_output, write_text
-        from ..io.report import Report
-
         d = Path(directory)
         check_output(d / "index.html", force)
         r = Report(title or f"PAC89 fit — {Path(self.source).name if self.source else 'data'}")
@@ -454,15 +454,12 @@ class FitResult:
 
         Returns ``(facets, info)`` of :func:`tyrefit.io.facets.facet_sweeps`.
         """
-        from ..io.facets import facet_sweeps
-
         part = part or self.parts[0]
         ch = ("pressure", "speed", "slip_angle", "camber") if part == "longitudinal" else \
             ("pressure", "speed", "camber")
         return facet_sweeps(self._parts[part].data.df, ch)
 
     def _draw_panel(self, ax, part: str, facet, fz_range=None, legend: bool = True):
-        from ..io.facets import format_load
         import matplotlib as mpl
 
         col, sym, unit, slip, xlabel, xs = _LABEL[part]
@@ -571,7 +568,6 @@ class FitResult:
         """
         from matplotlib.figure import Figure
 
-        from ..io.facets import pages
 
         facets, info = self.facets(part)
         lo, hi = self.stats[part]["fz_range"]
@@ -624,7 +620,6 @@ def unfitted_figures(df: pd.DataFrame, runs, max_rows: int = 4) -> list:
     import matplotlib as mpl
     from matplotlib.figure import Figure
 
-    from ..io.facets import describe_constant, facet_sweeps, format_load, pages
 
     sub = df[df["run"].isin(list(runs))]
     if sub.empty:
@@ -673,7 +668,7 @@ def unfitted_figures(df: pd.DataFrame, runs, max_rows: int = 4) -> list:
 #: the one noise-floor definition of fit, diagnose and compare
 NOISE_FLOOR_DEFINITION = ("pooled RMSE of a smooth curve (cubic spline, knots every 1.5 deg of slip angle / 0.03 "
                           "slip ratio, plus a load-jitter term) through each sweep on its own "
-                          "(tyrefit.diagnose.stats.noise_floor)")
+                          "(tyrefit.fitting.noise.noise_floor)")
 #: PAC89 coefficients that carry camber, per part
 _CAMBER_TERMS = {"lateral": ("a5", "a8", "a11"), "longitudinal": (),
                  "aligning": ("c6", "c10", "c11", "c14", "c15")}
@@ -688,15 +683,13 @@ def _esc(s) -> str:
 
 
 def describe_constant_text(info: dict) -> str:
-    from ..io.facets import describe_constant
-
     return describe_constant(info)
 
 
 def within_sweep_noise(d, part: str) -> tuple[float, pd.Series]:
     """Within-sweep noise floor [N or N*m] of one part's data and its per-sweep values.
 
-    :func:`tyrefit.diagnose.stats.noise_floor` on the part's sweeps (slip,
+    :func:`tyrefit.fitting.noise.noise_floor` on the part's sweeps (slip,
     force or moment, measured load), so ``fit`` and ``diagnose`` report the
     same number for the same sweeps.
     """
@@ -724,15 +717,10 @@ def noise_floor_of(slip, y, run, fz, part: str = "lateral") -> tuple[float, pd.S
     (float, Series)
         pooled floor and per-sweep values (index: run).
     """
-    import inspect
-
-    from ..diagnose.data import prepare
-    from ..diagnose.stats import noise_floor as _nf
-
     runs = np.asarray(run)
     # diagnose's sampling (tyrefit.diagnose.data.prepare): each sweep thinned evenly along the record to at
-    # most max_points_per_sweep points, so both commands estimate the floor from the same points
-    npts = int(inspect.signature(prepare).parameters["max_points_per_sweep"].default)
+    # most MAX_POINTS_PER_SWEEP points, so both commands estimate the floor from the same points
+    npts = MAX_POINTS_PER_SWEEP
     take = []
     for r in np.unique(runs):
         i = np.flatnonzero(runs == r)
@@ -756,8 +744,6 @@ def _at_bound(v: float, lo: float, hi: float) -> str | None:
 
 def _merged_levels(fits: dict) -> dict:
     """Channels PAC89 cannot carry (pressure, speed) with more than one level in the fitted data -> levels [SI]."""
-    from ..io.facets import sweep_conditions, channel_levels
-
     frames = []
     for pf in fits.values():
         sc = sweep_conditions(pf.data.df, _NOT_IN_PAC89)
@@ -775,8 +761,6 @@ def _merged_levels(fits: dict) -> dict:
 
 
 def _merged_text(channel: str, levels) -> str:
-    from ..io.facets import _DISPLAY, _decimals
-
     f, unit, _ = _DISPLAY[channel]
     d = _decimals(channel, levels)
     lv = ", ".join(f"{x * f:.{d}f}" for x in levels)

@@ -59,6 +59,8 @@ from ..errors import ColumnError, DataError, FormatError, UnitError, ValueRangeE
 from .table import RawTable, map_headers, parse_cells
 from .ttc import parse_ttc
 from .tydex import parse_tydex
+from ..errors import close_matches
+from .inputs import read_input_bytes
 
 __all__ = [
     "Dataset",
@@ -190,8 +192,6 @@ class Dataset:
 # --------------------------------------------------------------------------- sniffing
 
 def _read_bytes(p: Path) -> bytes:
-    from .inputs import read_input_bytes
-
     return read_input_bytes(p, "a data file (CSV, TYDEX .tdx or FSAE TTC .dat)")
 
 
@@ -321,8 +321,6 @@ def read_data(path: str | os.PathLike, convention: str = "iso", kind: str | None
 
 
 def _close(word, choices) -> str:
-    from ..errors import close_matches
-
     return close_matches(word, choices)
 
 

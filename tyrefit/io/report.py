@@ -14,6 +14,7 @@ import json
 import os
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from .outputs import write_text
 
 __all__ = ["Report", "fig_to_png", "esc"]
 
@@ -160,6 +161,4 @@ class Report:
 
     def save(self, directory: str | os.PathLike, name: str = "index.html", force: bool = True) -> Path:
         """Write ``directory/name`` atomically and return its path."""
-        from .outputs import write_text
-
         return write_text(Path(directory) / name, self.html(), force=force)  # creates the folder

@@ -50,6 +50,7 @@ import numpy as np
 
 from ..models import brush as bm
 from . import vehicle7dof as v7
+from ..fitting.brush import calibrate_original
 
 __all__ = [
     "Manoeuvre",
@@ -153,8 +154,6 @@ def improved_tyre(params: bm.BrushParams = bm.DEFAULT_PARAMS, n: int = 8) -> Tyr
 
 @lru_cache(maxsize=8)
 def _calibrated(params: bm.BrushParams, n: int) -> bm.BrushParams:
-    from ..fitting.brush import calibrate_original
-
     return calibrate_original(params, n=n).params
 
 

@@ -39,6 +39,7 @@ import numpy as np
 from ..errors import ModelError
 from .emission import QuadraticEmission
 from .tyres import AxleTyre
+from ..fitting.slip import fit_friction_slip
 
 __all__ = [
     "optimal_front_force",
@@ -239,8 +240,6 @@ class CurveCharacteristicSlipLimit:
     nu_c: float = -2.0
 
     def characteristic_slip(self, axle: AxleTyre) -> float:
-        from ..fitting.slip import fit_friction_slip
-
         lam_peak = axle.peak_drive[0]
         lam = np.linspace(0.0, lam_peak, 60)[1:]
         s = lam / (1.0 + lam)                                    # slip ratio -> slippage

@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import DataError, ValueRangeError
 from ..nomenclature import G0
 from .vehicle_file import VehicleSpec, load_vehicle
+from ..tyres.base import Tyre
 
 __all__ = ["SimRun", "simulate", "SCENARIOS"]
 
@@ -43,7 +44,6 @@ class SimRun:
 
 
 def _tyre(t, allow_unphysical: bool):
-    from ..tyres.base import Tyre
     from .tyres import load_tyre
 
     if t is None or isinstance(t, Tyre):

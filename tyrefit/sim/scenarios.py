@@ -41,6 +41,8 @@ from .simulate import simulate
 from .traction import HPWIZARD, emission_ratio
 from .tyres import AxleTyre
 from .vehicle import DEFAULT_VEHICLE, SimResult, VehicleModel, VehicleParams
+from ..errors import TyrefitError
+from ..io.datasets import data_path
 
 __all__ = [
     "SPEEDS_KMH",
@@ -205,8 +207,6 @@ def _bundled_traction_b():
     There is no silent fallback: HPwizard's published 0.15 is used only when the
     caller asks for it (``traction_b="hpwizard"``), and is then reported as such.
     """
-    from ..errors import TyrefitError
-    from ..io.datasets import data_path
     from .traction import traction_from_data
 
     try:

@@ -28,6 +28,11 @@ import numpy as np
 
 from ..errors import DataError, ModelError
 from ..tyres.base import Tyre, require_physical
+from ..fitting import fit_pac89
+from ..io.datasets import data_path
+from ..io.outputs import check_output
+from ..io.readers import read_data
+from ..io.tir import read_tyre
 
 try:  # the compiled routine behind np.interp, without its Python-level checks (hot loop)
     from numpy._core.multiarray import interp as _interp
@@ -207,8 +212,6 @@ def load_tyre(path: str | os.PathLike, allow_unphysical: bool = False) -> Tyre:
     It must model Fx and Fy, and be physical over its declared range
     (:meth:`~tyrefit.tyres.base.Tyre.check`) unless ``allow_unphysical``.
     """
-    from ..io.tir import read_tyre
-
     p = Path(path)
     if not p.exists():
         raise DataError(f"{p}: tyre file not found")
@@ -230,8 +233,6 @@ def default_tyres() -> tuple[Tyre, Tyre]:
     They are PAC89 fits of the bundled synthetic data by the package's fitter
     (:func:`fit_vehicle_tyres`); each file's header records how it was made.
     """
-    from ..io.datasets import data_path
-
     return load_tyre(data_path("sim", DEFAULT_FRONT)), load_tyre(data_path("sim", DEFAULT_REAR))
 
 
@@ -250,10 +251,6 @@ def fit_vehicle_tyres(data_dir: str | os.PathLike, out_dir: str | os.PathLike,
     dict
         ``{'front': path, 'rear': path}``.
     """
-    from ..fitting import fit_pac89
-    from ..io.outputs import check_output
-    from ..io.readers import read_data
-
     data_dir, out_dir = Path(data_dir), Path(out_dir)
     targets = {"front": out_dir / DEFAULT_FRONT, "rear": out_dir / DEFAULT_REAR}
     for p in targets.values():

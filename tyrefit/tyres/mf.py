@@ -58,6 +58,7 @@ from ..errors import ModelError
 from .base import Tyre
 
 from ..models import mf61 as _mf61
+from ..io.mf_tir import write_mf_tir
 
 __all__ = ["MFTyre", "REQUIRED_MF", "USE_MODE_OUTPUTS", "NOT_FITTED_KEY", "parse_not_fitted"]
 
@@ -427,7 +428,6 @@ class MFTyre(Tyre):
         """
         from pathlib import Path
 
-        from ..io.mf_tir import write_mf_tir
 
         res = getattr(self, "_result", None)
         if res is not None:

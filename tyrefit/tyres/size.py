@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import DataError
+from ..models import mf61
 
 __all__ = ["TyreSize", "parse_size", "size_and_rated_load", "design_estimates", "complete_design", "G0", "loaded_radius_law",
            "complete_mf_design", "MF_DESIGN_SECTIONS"]
@@ -329,8 +330,6 @@ def complete_mf_design(p: dict, *, size: TyreSize | None = None, measured: dict 
     placeholders : list of str
         the keys still at template values.
     """
-    from ..models import mf61
-
     measured = measured or {}
     template = mf61.neutral()
     origin: dict[str, str] = {}

@@ -76,6 +76,11 @@ import numpy as np
 
 from ..errors import DataError, OutputExistsError, TyrefitError
 from ..io.outputs import write_text
+from .._version import __version__
+from ..io.report import Report
+from ..models import pac89
+from ..nomenclature import UnitError, dimension_of, parse_header, to_si
+from ..tyres.size import size_and_rated_load
 
 __all__ = ["BatchResult", "batch_fit", "find_data_files", "fit_file", "fit_quality", "read_manifest", "SUMMARY_COLUMNS",
            "DATA_SUFFIXES"]
@@ -172,8 +177,6 @@ def fit_quality(tyre, ds) -> dict[str, Any]:
     rmse is then dimensionless).  ``peak_mu`` is the model's peak friction
     coefficient D/Fz (Fy, or Fx for slip-ratio data) at the median load of the data.
     """
-    from ..models import pac89
-
     df = ds.df
     fz = df["fz"].to_numpy(float) if "fz" in df else None
     out: dict[str, Any] = {"points": int(len(df)), "sweeps": int(ds.n_runs)}
@@ -222,8 +225,6 @@ def _sha256(path: str | os.PathLike) -> str | None:
 
 def fingerprint(source: str | os.PathLike, options: dict[str, Any]) -> dict[str, Any]:
     """What a batch ``.tir`` was fitted from: source contents (SHA-256), fit options, tyrefit version."""
-    from .._version import __version__
-
     return {"source": str(source), "source_sha256": _sha256(source),
             "options": {k: options[k] for k in sorted(options)}, "tyrefit": __version__}
 
@@ -401,8 +402,6 @@ def read_manifest(path: str | os.PathLike, files: Sequence[Path]) -> dict[Path, 
     """
     import csv
 
-    from ..nomenclature import UnitError, dimension_of, parse_header, to_si
-    from ..tyres.size import size_and_rated_load
 
     mpath = Path(path)
     try:
@@ -930,8 +929,6 @@ def summary_csv_text(records: Sequence[dict]) -> str:
 
 def write_summary(res: BatchResult) -> tuple[Path, Path]:
     """Write ``summary.csv`` and ``index.html`` into the batch folder (replacing them)."""
-    from ..io.report import Report
-
     csv_path = write_text(res.out_dir / "summary.csv", summary_csv_text(res.records), force=True)
     rep = Report("tyrefit batch fit", f"{len(res.records)} data files; {res.n_ok} fitted, {res.n_skipped} "
                  f"skipped (up to date), {res.n_failed} failed; {res.elapsed:.1f} s on {res.backend}.")

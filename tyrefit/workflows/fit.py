@@ -55,6 +55,10 @@ from ..errors import DataError
 from ..io.plausibility import check_mirrored
 from ..io.readers import check_fittable, read_data
 from ..tyres.size import complete_design, complete_mf_design, loaded_radius_law, size_and_rated_load
+from ..effects import EFFECTS
+from ..fitting import fit_pac89
+from ..fitting.mf import fit_mf, prepare_mf_data
+from ..rig import RigCalibration, prepare_static_fit
 
 __all__ = ["fit", "fit_pac89_record", "fit_mf_records", "read_checked", "static_input", "MODELS", "COSTS"]
 
@@ -132,8 +136,6 @@ def static_input(ds, *, patch=None, rig=None, vertical=None, static_part: str = 
     """Komana et al. Eq. 1 on a static-rig test: the slip-angle data, anchors and design data to fit."""
     if not patch:
         raise DataError(f"{ds.source}: a static test needs --patch PATCH.csv for Eq. 1 (contact-patch length)")
-    from ..rig import RigCalibration, prepare_static_fit
-
     patch_ds = read_data(os.fspath(patch), convention="iso", kind="patch")
     cal = RigCalibration.from_json(os.fspath(rig)) if rig else None
     vertical_ds = read_data(os.fspath(vertical), convention="iso", kind="vertical") if vertical else None
@@ -166,8 +168,6 @@ def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] 
     :class:`~tyrefit.fitting.result.FitResult` with ``extras``: ``static`` (the static-rig input or
     None), ``start`` (the start model's fit with ``effects``), ``effects`` (ids), ``notes``, ``dataset``.
     """
-    from ..fitting import fit_pac89
-
     notes: list[str] = []
     tyre_size = size_and_rated_load(size, rated_load)
     notes += [f"dropped {n} samples: {why}" for why, n in ds.meta.get("dropped", {}).items()]
@@ -227,8 +227,6 @@ def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] 
 
 def _effects_split(effects):
     """(effects PAC89 carries, [(effect, why) it cannot carry]) from the effects catalogue."""
-    from ..effects import EFFECTS
-
     carried, dropped = [], []
     for e in effects:
         eff = EFFECTS.get(e)
@@ -248,8 +246,6 @@ def fit_mf_records(sets, *, model: str = "mf61", cost: str = "l2", effects: Sequ
     Returns the :class:`~tyrefit.fitting.mf_result.FitResultMF` with ``start`` (the start model's fit
     with ``effects``, else None) and ``placeholders`` (design values from the template).
     """
-    from ..fitting.mf import fit_mf, prepare_mf_data
-
     for ds in sets:
         if ds.kind not in ("slip_angle", "slip_ratio"):
             raise DataError(f"{ds.source}: a {ds.kind} table cannot be fitted to a Magic Formula tyre; it needs "

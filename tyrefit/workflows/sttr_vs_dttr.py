@@ -26,7 +26,10 @@ import numpy as np
 import pandas as pd
 
 from ..nomenclature import G0
-from . import RigCalibration, StaticFitInput, calibrate, prepare_static_fit
+from ..compare.tyres import compare_tyres
+from ..fitting import fit_pac89
+from ..rig import RigCalibration, StaticFitInput, calibrate, prepare_static_fit
+from ..io.report import Report
 
 __all__ = ["VARIANTS", "StudyResult", "sttr_vs_dttr"]
 
@@ -104,7 +107,6 @@ class StudyResult:
         """The study as a :class:`tyrefit.io.report.Report`."""
         from matplotlib.figure import Figure
 
-        from ..io.report import Report
 
         ref, tgt = self.names.get("reference", "A"), self.names.get("target", "B")
         c = self.checks()
@@ -206,9 +208,6 @@ def sttr_vs_dttr(reference_static, reference_dynamic, reference_patch, target_st
     -------
     StudyResult
     """
-    from ..compare.tyres import compare_tyres
-    from ..fitting import fit_pac89
-
     names = {"reference": "A", "target": "B", **(names or {})}
     cal = calibrate(reference_static, reference_dynamic, reference_patch)
     inputs: dict[str, StaticFitInput] = {}
