@@ -76,6 +76,29 @@ def test_sim_runs_the_fsae_tyre_on_the_fsae_preset(fitted, tmp_path):
     assert rows and all(min(r[f"fz_{w}_N"] for w in ("fl", "fr", "rl", "rr")) >= lo for r in rows)
 
 
+def test_fsae_ramp_on_a_track_keeps_every_wheel_inside_the_fitted_loads(fitted, tmp_path):
+    """Belt-rig grip scaled to a track (road friction 0.7): the whole ramp, to its limit, inside the envelope."""
+    _, _, _, tir = fitted
+    out = {}
+    for rf in (1.0, 0.7):
+        js = tmp_path / f"ramp{rf}.json"
+        assert main(["sim", "ramp", "--front", str(tir), "--rear", str(tir), "--vehicle", "fsae",
+                     "--road-friction", f"{rf:g}", "--json", str(js)]) == 0
+        out[rf] = json.loads(js.read_text())
+    track = out[0.7]
+    assert track["road_friction"] == 0.7
+    assert track["tyres"]["front"]["outside_envelope"] == 0.0 and track["tyres"]["rear"]["outside_envelope"] == 0.0
+    assert track["envelope_limit_g"] == pytest.approx(track["lateral_limit_g"])
+    lo = track["tyres"]["front"]["ranges"]["fz"][0]
+    assert min(min(r[f"fz_{w}_N"] for w in ("fl", "fr", "rl", "rr")) for r in track["ramp"]) >= lo
+    # grip scales the limit (load transfer shrinks with it, so a little less than in proportion); the linear
+    # range, set by the cornering stiffness, does not move
+    ratio = track["lateral_limit_g"] / out[1.0]["lateral_limit_g"]
+    assert 0.66 < ratio < 0.75
+    assert track["understeer_gradient_deg_per_g"] == pytest.approx(out[1.0]["understeer_gradient_deg_per_g"],
+                                                                    abs=0.005)
+
+
 def test_sim_runs_a_fitted_mf_tyre_at_loads_inside_its_range(tmp_path):
     # the bundled TTC-style pair of a 6.75 kN passenger-car tyre: the default vehicle's 4.4 kN is inside its range
     from tyrefit.io.datasets import data_dir

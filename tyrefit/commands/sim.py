@@ -192,9 +192,11 @@ def _ramp_summary(run_) -> str:
     d = run_.json
     cf = d["closed_form"]
     return "\n".join([
-        f"Steady-state constant-radius ramp, R = {d['radius_m']:g} m, vehicle {run_.vehicle.name!r}",
+        f"Steady-state constant-radius ramp, R = {d['radius_m']:g} m, vehicle {run_.vehicle.name!r}"
+        + (f", road friction x{d['road_friction']:g}" if d.get("road_friction", 1.0) != 1.0 else ""),
         f"  understeer gradient {d['understeer_gradient_deg_per_g']:.4f} deg/g (linear bicycle model from the "
-        f"tyres' cornering stiffness: {cf['understeer_gradient_deg_per_g']:.4f} deg/g)",
+        f"tyres' cornering stiffness at static loads, no load transfer: {cf['understeer_gradient_deg_per_g']:.4f} "
+        "deg/g)",
         f"  lateral limit {d['lateral_limit_g']:.3f} g: {d['limit']}",
         f"  inside the tyres' declared envelopes up to {d['envelope_limit_g']:.3f} g"
         + ("" if d["envelope_limit_g"] >= d["lateral_limit_g"] - 1e-9 else
@@ -212,14 +214,15 @@ def ramp_report(run_):
                         "and aerodynamic load.")
     r.table([{"item": "radius [m]", "value": d["radius_m"]},
              {"item": "understeer gradient [deg/g]", "value": d["understeer_gradient_deg_per_g"]},
-             {"item": "linear bicycle model (m/L)(l_r/C_f - l_f/C_r) [deg/g]",
+             {"item": "linear bicycle model (m/L)(l_r/C_f - l_f/C_r) at static loads, no load transfer [deg/g]",
               "value": d["closed_form"]["understeer_gradient_deg_per_g"]},
              {"item": "axle cornering stiffness front / rear at static load [N/rad]",
               "value": f"{d['closed_form']['cornering_stiffness_front_N_per_rad']:.0f} / "
                        f"{d['closed_form']['cornering_stiffness_rear_N_per_rad']:.0f}"},
              {"item": "lateral limit [g]", "value": d["lateral_limit_g"]},
              {"item": "limited by", "value": d["limit"]},
-             {"item": "inside the tyres' declared envelopes up to [g]", "value": d["envelope_limit_g"]}])
+             {"item": "inside the tyres' declared envelopes up to [g]", "value": d["envelope_limit_g"]},
+             {"item": "road friction [x the tyres' test surface]", "value": d.get("road_friction", 1.0)}])
     r.figure(ramp_figure(run_.result), "Steering angle, body slip angle, axle slip angles and wheel loads over the "
                                        "lateral acceleration.")
     return r
@@ -326,6 +329,10 @@ def add_scenario_parsers(ssub, common, allow_unphysical) -> None:
                        help="vehicle file (TOML or JSON) or preset: ev (default, seed 000's car), fsae, light_truck")
         s.add_argument("--strict", action="store_true",
                        help="refuse when a tyre works outside the load/slip envelope its file declares")
+        s.add_argument("--road-friction", type=float, default=1.0, metavar="FACTOR",
+                       help="the road's friction as a factor on the tyres' test surface (default 1; belt-rig data "
+                            "such as FSAE TTC's typically need 0.6-0.7 for a dry track): peak forces scale, "
+                            "slip stiffnesses do not")
         if name == "step_steer":
             s.add_argument("--speed", type=float, default=None, metavar="KMH", help="speed [km/h] (default 80)")
             s.add_argument("--ay", type=float, default=None, metavar="G",
@@ -359,7 +366,8 @@ def run(args) -> int:
     run_ = simulate(scenario, getattr(args, "front", None), getattr(args, "rear", None),
                     vehicle=getattr(args, "vehicle", None) or "ev", strict=getattr(args, "strict", False),
                     allow_unphysical=getattr(args, "allow_unphysical", False), radius=getattr(args, "radius", None),
-                    speed_kmh=getattr(args, "speed", None), ay_g=getattr(args, "ay", None))
+                    speed_kmh=getattr(args, "speed", None), ay_g=getattr(args, "ay", None),
+                    road_friction=getattr(args, "road_friction", 1.0))
     res = run_.result
     print(_SUMMARIES.get(scenario, lambda r: _summary(r.result))(run_))
     for w in run_.warnings:

@@ -53,7 +53,7 @@ def _tyre(t, allow_unphysical: bool):
 
 def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike | VehicleSpec | dict" = "ev", *,
              strict: bool = False, allow_unphysical: bool = False, radius: float | None = None,
-             speed_kmh: float | None = None, ay_g: float | None = None) -> SimRun:
+             speed_kmh: float | None = None, ay_g: float | None = None, road_friction: float = 1.0) -> SimRun:
     """Run a scenario on a vehicle with its tyres.
 
     Parameters
@@ -78,6 +78,11 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
     ay_g : float, optional
         ``step_steer``: steady-state lateral acceleration the steering step aims at [g] (default 0.4);
         ``braking_turn``: lateral acceleration of the steady cornering before braking [g] (default 0.5).
+    road_friction : float
+        The road's friction as a factor on the surface the tyres were tested on (1: as tested).  Peak
+        forces scale, slip stiffnesses do not (:meth:`tyrefit.tyres.base.Tyre.on_road`: LMUX and LMUY
+        of a Magic Formula tyre, Pacejka 2012 Sec. 4.3.2).  A belt rig's abrasive surface grips more
+        than a road: data from one usually need about 0.6-0.7 for a dry track.
 
     Returns
     -------
@@ -100,6 +105,8 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
             f, f_file = f0, f"bundled {f0.name}"
         if r is None:
             r, r_file = r0, f"bundled {r0.name}"
+    if road_friction != 1.0:
+        f, r = f.on_road(road_friction), r.on_road(road_friction)
     tyres = {"front": f, "rear": r}
     if scenario in PAPER_SCENARIOS:
         from .scenarios import SimSetup, run_scenario
@@ -131,6 +138,7 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
     files = {"front": f_file, "rear": r_file}
     summary = {role: envelope_summary(tyres[role], points[role], files[role]) for role in ("front", "rear")}
     doc["vehicle"] = spec.to_dict()
+    doc["road_friction"] = float(road_friction)
     doc["tyres"] = summary
     warns = [f"{role} tyre {files[role]}: outside its declared envelope {100 * s['outside_envelope']:.1f} % of "
              f"the simulated time; worst: {s['worst']}"

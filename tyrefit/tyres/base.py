@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, ValueRangeError
 
 __all__ = ["Tyre", "MirroredTyre", "FAMILIES", "require_physical", "broadcast_inputs"]
 
@@ -180,6 +180,25 @@ class Tyre(abc.ABC):
         """The same tyre mounted on the other side (see :class:`MirroredTyre`)."""
         return MirroredTyre(self)
 
+    def on_road(self, friction: float) -> "Tyre":
+        """The same tyre on a road whose friction is ``friction`` x that of the surface it was tested on.
+
+        The peak forces scale and the slip stiffnesses do not: the friction scaling factors of the
+        Magic Formula (Pacejka 2012, Sec. 4.3.2, lambda_mu_x and lambda_mu_y), and for PAC89 the peak
+        factor D alone (B = BCD / (C D) absorbs it).  A test rig's abrasive belt grips more than a road
+        does; FSAE teams commonly scale belt-rig data by about 0.6-0.7 for a dry track, a number best
+        measured on the car (a skid pad's lateral limit against the tyre model's).
+        """
+        raise ModelError(f"{self.name}: a {self.family} tyre has no road-friction scaling")
+
+    @staticmethod
+    def _check_friction(friction: float) -> float:
+        f = float(friction)
+        if not (math.isfinite(f) and 0.05 <= f <= 1.5):
+            raise ValueRangeError(f"road friction {friction!r}: a factor on the test surface's friction, from 0.05 "
+                                  "to 1.5 (1 = the surface the tyre was tested on)")
+        return f
+
     # -- nominal values and ranges ----------------------------------------------------
     @property
     def nominal(self) -> dict[str, float | None]:
@@ -306,6 +325,9 @@ class MirroredTyre(Tyre):
 
     def mirrored(self) -> Tyre:
         return self.tyre
+
+    def on_road(self, friction: float) -> Tyre:
+        return MirroredTyre(self.tyre.on_road(friction))
 
 
 def require_physical(tyre: Tyre, source: str = "", allow_unphysical: bool = False) -> list[str]:

@@ -49,7 +49,7 @@ that is absent gives NaN in :meth:`MFTyre.forces`, is not checked, and
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -305,6 +305,16 @@ class MFTyre(Tyre):
         bound = np.abs(g("QEZ4") + g("QEZ5") * gam)
         out["Et_max"] = np.maximum(et * (1 + bound), et * (1 - bound))
         return out
+
+    def on_road(self, friction: float) -> "MFTyre":
+        """This tyre on a road of ``friction`` x the test surface's friction (:meth:`Tyre.on_road`):
+        LMUX and LMUY, the friction scaling factors of (4.E13) and (4.E23), multiplied by ``friction``
+        (Pacejka 2012, Sec. 4.3.2); the slip stiffnesses (4.E15, 4.E25) do not carry them."""
+        f = self._check_friction(friction)
+        p = dict(self.params)
+        for k in ("LMUX", "LMUY"):
+            p[k] = float(p.get(k, 1.0)) * f
+        return replace(self, params=p, name=self.name if f == 1.0 else f"{self.name} (road friction x{f:g})")
 
     def check(self, n: int = 41) -> list[str]:
         """Problems that make the tyre unusable (empty when physical).

@@ -186,6 +186,18 @@ class Pac89Tyre(Tyre):
             ranges["camber"] = (-ranges["camber"][1], -ranges["camber"][0])
         return replace(self, coefficients=c, tyreside=side, ranges=ranges)
 
+    def on_road(self, friction: float) -> "Pac89Tyre":
+        """This tyre on a road of ``friction`` x the test surface's friction (:meth:`Tyre.on_road`).
+
+        The peak factors D = a1 Fz^2 + a2 Fz, b1 Fz^2 + b2 Fz and c1 Fz^2 + c2 Fz scale; the
+        stiffness BCD (a3, a4; b3, b4, b5; c3-c6) does not, so B = BCD / (C D) rises as D falls.
+        """
+        f = self._check_friction(friction)
+        c = dict(self.coefficients)
+        for k in ("a1", "a2", "b1", "b2", "c1", "c2"):
+            c[k] = c[k] * f
+        return replace(self, coefficients=c, name=self.name if f == 1.0 else f"{self.name} (road friction x{f:g})")
+
     # -- physical checks -----------------------------------------------------------
     def check(self, n: int = 41) -> list[str]:
         """Problems of the model over its declared load and camber range (empty when physical).
