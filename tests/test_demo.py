@@ -1,6 +1,7 @@
 """The demo runs every pipeline, links every report, and reports a failing step without hiding it."""
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -17,6 +18,13 @@ def _pipelines(tmp_path):
         "    out = Path(out); out.mkdir(parents=True, exist_ok=True)\n"
         "    (out / 'index.html').write_text('<html>good</html>')\n"
         "    return {'headline': 'all good', 'value': 3}\n")
+    (d / "paths.py").write_text(  # a step that records the path of a file it wrote (as sim --json does)
+        "import json\nfrom pathlib import Path\n"
+        "def main(out):\n"
+        "    out = Path(out); out.mkdir(parents=True, exist_ok=True)\n"
+        "    (out / 't.tir').write_text('x')\n"
+        "    (out / 'r.json').write_text(json.dumps({'file': str(out / 't.tir')}))\n"
+        "    return {'headline': 'paths'}\n")
     (d / "bad.py").write_text("def main(out):\n    raise ValueError('no data for this step')\n")
     return d
 
@@ -31,6 +39,13 @@ def test_demo_links_reports_and_shows_failed_steps(tmp_path):
     assert "ValueError: no data for this step" in html
     summary = json.loads((tmp_path / "demo" / "demo.json").read_text())
     assert summary[0]["numbers"] == {"value": 3}
+
+
+def test_demo_json_names_the_final_folder_not_the_staging_one(tmp_path):
+    out = tmp_path / "demo"
+    run_demo(out, steps=[("paths", "paths.py", "records a path")], pipelines=_pipelines(tmp_path))
+    recorded = Path(json.loads((out / "paths" / "r.json").read_text())["file"])
+    assert recorded == out / "paths" / "t.tir" and recorded.is_file()
 
 
 def test_demo_refuses_to_replace_a_report_without_force(tmp_path, capsys):

@@ -84,7 +84,22 @@ def run_demo(out: Path, force: bool = False, steps=STEPS, pipelines: Path | None
         r.save(tmp)
         (tmp / "demo.json").write_text(json.dumps(
             [{k: v for k, v in rec.items() if k != "traceback"} for rec in records], indent=2, default=str))
+        _final_paths(tmp, out)
     return records, out / "index.html"
+
+
+def _final_paths(tmp: Path, out: Path) -> None:
+    """Point the JSON and HTML the steps wrote at the final folder, not the staging one they ran in.
+
+    The steps write into the staging folder (committed as a whole at the end), so a path one step
+    recorded (``sim --json``'s tyre ``file``, a report's link) names a folder that is gone afterwards.
+    """
+    old = str(tmp)
+    for f in sorted(tmp.rglob("*")):
+        if f.suffix.lower() in (".json", ".html") and f.is_file():
+            text = f.read_text(encoding="utf-8", errors="surrogateescape")
+            if old in text:
+                f.write_text(text.replace(old, str(out)), encoding="utf-8", errors="surrogateescape")
 
 
 def run(args) -> int:
