@@ -31,7 +31,8 @@ import numpy as np
 from ..effects import EFFECTS, FAMILIES
 from .stats import detectable_size
 
-__all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "needs_model", "peak_reach", "pushes"]
+__all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "measured_peak", "needs_model", "peak_reach",
+           "pushes"]
 
 _DEG = np.pi / 180.0
 #: the words for an effect PAC89 cannot carry and MF 6.1 can (issue 13: the model ladder)
@@ -72,13 +73,69 @@ def level_curve(spec, theta, data, k: int, slip) -> tuple[np.ndarray, float, flo
     return np.abs(spec.predict(theta, inp)), side, max(up, down)
 
 
-def peak_reach(spec, theta, data) -> list[dict]:
-    """Per load level: the slip angle of the fitted force peak against the largest slip measured there.
+#: bin width [deg] of |slip| in which the measured force is averaged to find a sweep's own peak
+_PEAK_BIN_DEG = 0.5
 
-    The model is evaluated by :func:`level_curve` on 0..:data:`PEAK_SEARCH_DEG` deg.  ``peak_deg`` is None
-    when the force still rises at the end of that range (a curve with no peak, as a brush model's).  A load
-    whose sweeps stop before the peak carries its peak force only as an extrapolation of the curve's
-    shape, so there friction level and curvature are not measured apart.
+
+def measured_peak(slip, force, min_reach_deg: float = 3.0) -> dict | None:
+    """Where one side of a measured sweep peaks, from the data alone (no model).
+
+    |F| is averaged in :data:`_PEAK_BIN_DEG` bins of |slip|; the sweep *peaked* when its largest bin
+    mean lies inside the sweep (at most 85 % of its reach) and the force at the sweep's end has fallen
+    below it by more than both 2 % of the peak and three standard errors of the two bin means (the
+    scatter within the bins).  ``None`` for a side that reaches less than ``min_reach_deg``.
+
+    Returns ``{"peaked", "peak_deg", "reach_deg", "drop"}`` (``drop``: fall from the peak to the end,
+    as a fraction of the peak).
+    """
+    a = np.degrees(np.abs(np.asarray(slip, float)))
+    f = np.abs(np.asarray(force, float))
+    reach = float(a.max()) if a.size else 0.0
+    if reach < min_reach_deg or a.size < 10:
+        return None
+    b = np.floor(a / _PEAK_BIN_DEG).astype(int)
+    keys = np.unique(b)
+    mean = np.array([f[b == k].mean() for k in keys])
+    n = np.array([np.count_nonzero(b == k) for k in keys])
+    var = np.array([f[b == k].var(ddof=1) if c > 1 else np.nan for k, c in zip(keys, n)])
+    sd = np.sqrt(np.nanmedian(var)) if np.any(np.isfinite(var)) else 0.0
+    se = sd / np.sqrt(n)
+    j = int(np.argmax(mean))
+    centre = (keys + 0.5) * _PEAK_BIN_DEG
+    drop = mean[j] - mean[-1]
+    peaked = bool(centre[j] <= 0.85 * reach and drop > max(0.02 * mean[j], 3.0 * np.hypot(se[j], se[-1])))
+    return {"peaked": peaked, "peak_deg": float(centre[j]), "reach_deg": reach,
+            "drop": float(drop / mean[j]) if mean[j] > 0 else 0.0}
+
+
+def _measured_level_peak(data, k: int) -> dict:
+    """The measured sweeps of load level ``k``: did most of their sides peak, and where (median)."""
+    m = np.asarray(data.level_index["fz"]) == k
+    sa, fy, sw = data.inputs.slip_angle[m], np.asarray(data.fy)[m], np.asarray(data.sweep)[m]
+    sides = []
+    for g in np.unique(sw):
+        for sign in (1.0, -1.0):
+            on = (sw == g) & (np.sign(sa) == sign)
+            r = measured_peak(sa[on], fy[on])
+            if r is not None:
+                sides.append(r)
+    peaked = [r for r in sides if r["peaked"]]
+    ok = bool(sides) and 2 * len(peaked) > len(sides)
+    return {"data_peaked": ok, "data_peak_deg": float(np.median([r["peak_deg"] for r in peaked])) if ok else None,
+            "data_drop": float(np.median([r["drop"] for r in peaked])) if ok else None}
+
+
+def peak_reach(spec, theta, data) -> list[dict]:
+    """Per load level: where the measured sweeps peak, and the fitted model's peak against the sweeps' reach.
+
+    The data decide first (:func:`measured_peak`): a level whose measured sweeps rise to a force peak and
+    fall past it has its peak *measured* (``data_peaked``, ``data_peak_deg``), whatever the model does.
+    Only where the data have not peaked is the fitted model asked: it is evaluated by :func:`level_curve` on
+    0..:data:`PEAK_SEARCH_DEG` deg, and ``peak_deg`` is None when it still rises at the end of that range (a
+    curve with no peak, as a brush model's).  ``reached``: the level's peak is in the data, measured or
+    within the sweeps' reach.  A level short of its peak carries the peak force only as an extrapolation
+    of the curve's shape, so there friction level and curvature are not measured apart.  Where the data
+    peaked and the model's peak lies well beyond it (``model_misses_peak``), the miss is the model's.
     """
     grid = np.linspace(0.0, PEAK_SEARCH_DEG, 601) * _DEG
     out = []
@@ -88,8 +145,11 @@ def peak_reach(spec, theta, data) -> list[dict]:
         f, _, reach = level_curve(spec, theta, data, k, grid)
         j = int(np.argmax(f))
         peak = None if j >= len(grid) - 1 else float(grid[j] / _DEG)
+        meas = _measured_level_peak(data, k)
+        model_ok = peak is not None and peak <= reach / _DEG
         out.append({"fz_N": float(fz), "peak_deg": peak, "reach_deg": float(reach / _DEG),
-                    "reached": peak is not None and peak <= reach / _DEG})
+                    "reached": meas["data_peaked"] or model_ok, **meas,
+                    "model_misses_peak": bool(meas["data_peaked"] and not model_ok)})
     return out
 
 

@@ -123,7 +123,7 @@ from .fitter import FitOut, ModelSpec, fit, fit_start
 from .result import Diagnosis
 from .steps import Candidate, Settings, Step  # noqa: F401  (public here too)
 from .stats import (MIN_FLIP_SWEEPS, SweepLayout, heldout_gain_null, cluster_bootstrap_prob, cluster_sums, crossval_surface, level_folds, noise_floor,
-                    score_test_groups, screen_candidates, sweep_folds)
+                    estimate_noise, repeat_noise, score_test_groups, screen_candidates, sweep_folds)
 from ..fitting.noise import _bspline_basis
 
 __all__ = ["Settings", "Step", "Candidate", "diagnose", "pac89_effects", "MISFIT_RATIO", "MISFIT_SHARE"]
@@ -661,6 +661,9 @@ def _pac89_export(data: SweepData, final: Step, fixed: dict) -> dict:
 #: 0.6 sigma offsets, 0.8 sigma within; measured 1.17-1.38 on its null cases); the bundled passenger tyre
 #: ends at 1.18.  1.5 is clear of both.
 MISFIT_RATIO = 1.5
+#: held-out RMSE within this multiple of the noise measured between repeated sweeps
+#: (:func:`~tyrefit.diagnose.stats.repeat_noise`) is the record's own noise: nothing left for a model
+REPEAT_RATIO = 1.3
 #: share of the final residual's variance that a smooth surface fitted on other sweeps must predict on
 #: held-out sweeps to call the excess a systematic misfit (nulls of every noise model: <= -0.07; the camber
 #: brush data: 0.4-0.9 depending on the noise)
@@ -875,32 +878,80 @@ def _unexplained(eng: _Engine, step: Step, floor: float, s: Settings, cands: dic
             for b in flagged_bins[:3]))
     found = t.p_value < eng.alpha
     mf = _misfit(eng, step, floor, u, cands)
+    noise = _noise_levels(eng, step)
     omni = {"p_value": t.p_value, "directions": n_dir,
             "omnibus_groups": {k: {"p_value": pv, "directions": df} for k, pv, df in zip(groups, t.p_groups, t.dfs)},
-            "cells": rows[:10], "slip_bins": bins, "misfit": mf}
+            "cells": rows[:10], "slip_bins": bins, "misfit": mf, **noise}
     level = (f"held-out RMSE {step.rmse_heldout:.1f} N = {mf['ratio']:.2f} x the within-sweep noise floor "
              f"{floor:.1f} N")
+    rep = noise["repeat_noise"]
     if eng.G < 3:
         text = (f"cannot be checked: only {eng.G} sweeps, too few to tell structure from noise ({level})"
                 + ("; largest local errors: " + "; ".join(where) if where else ""))
-        return {**omni, "structure_found": False, "where": where, "summary": text}
+        return {**omni, "structure_found": False, "verdict": "undecided", "where": where, "summary": text}
     if mf["systematic"]:
         text, mwhere = _misfit_text(mf, cands)
         if found:
             text += f" (omnibus score test p = {t.p_value:.3g})"
-        return {**omni, "structure_found": True, "where": mwhere, "summary": text}
-    if found:
+        return {**omni, "structure_found": True, "verdict": "structure", "where": mwhere, "summary": text}
+    within_repeats = rep is not None and step.rmse_heldout <= REPEAT_RATIO * rep["sd_N"]
+    if found and within_repeats:
+        text = (f"a faint pattern remains (omnibus score test p = {t.p_value:.3g}), but it is smaller than the "
+                f"record's own noise: the {level}, and within {REPEAT_RATIO:g} x the noise measured between "
+                f"repeated sweeps ({rep['sd_N']:.1f} N, {rep['pairs']} pairs), so no effect would lower the "
+                "held-out error measurably")
+        verdict = "noise"
+    elif found:
         text = (f"structure remains (omnibus score test p = {t.p_value:.3g}; {level}): "
                 + ("; ".join(where) if where else "spread thinly over slip and load; no single cell stands out"))
+        verdict = "structure"
+    elif rep is not None and mf["checked"] and step.rmse_heldout > REPEAT_RATIO * rep["sd_N"]:
+        text = (f"structure remains: the {level}, and {step.rmse_heldout / rep['sd_N']:.2f} x the noise measured "
+                f"between repeated sweeps ({rep['sd_N']:.1f} N from {rep['pairs']} pairs in {rep['cells']} condition "
+                "cells, where the model's error cancels): the excess is the model's, though other sweeps do not "
+                "predict it as one smooth surface (it changes from condition to condition)")
+        found, verdict = True, "structure"
     elif mf["checked"]:
-        text = (f"no systematic structure, but the {level}: other sweeps do not predict the excess "
-                f"({100 * mf['predictable_share']:.0f} % of the residual variance, {100 * MISFIT_SHARE:.0f} % "
-                "needed), so it is noise correlated along the sweeps or sweep-to-sweep offsets (rig drift), "
-                "which the within-sweep floor does not count and no model effect removes "
-                f"(omnibus score test p = {t.p_value:.3g})")
+        if rep is not None:
+            text = (f"nothing left beyond the record's own noise: the {level}, but within {REPEAT_RATIO:g} x the "
+                    f"noise measured between repeated sweeps ({rep['sd_N']:.1f} N, {rep['pairs']} pairs): noise "
+                    "correlated along the sweeps or offsets between them (rig drift), which the within-sweep floor "
+                    f"does not count and no model effect removes (omnibus score test p = {t.p_value:.3g})")
+            verdict = "noise"
+        else:
+            nm = noise["noise_model"]
+            text = (f"undecided: the {level}; other sweeps do not predict the excess "
+                    f"({100 * mf['predictable_share']:.0f} % of the residual variance, {100 * MISFIT_SHARE:.0f} % "
+                    f"needed), and noise correlated along the sweeps (AR(1) rho {nm['rho']:.2f}) with offsets "
+                    f"between them ({nm['tau_N']:.1f} N) would explain it, but so would a misfit that changes from "
+                    "sweep to sweep; the record has no repeated sweep to tell them apart. To decide: "
+                    + _repeat_test(eng.data) + f" (omnibus score test p = {t.p_value:.3g})")
+            verdict = "undecided"
     else:
         text = (f"no structure detected beyond the noise (omnibus score test p = {t.p_value:.3g}, "
                 f"{n_dir} smooth slip x condition directions; {level})")
         if where:
             text += "; largest local errors: " + "; ".join(where)
-    return {**omni, "structure_found": bool(found), "where": where, "summary": text}
+        verdict = "noise"
+    return {**omni, "structure_found": bool(found), "verdict": verdict, "where": where, "summary": text}
+
+
+def _noise_levels(eng: _Engine, step: Step) -> dict:
+    """The noise model fitted to the final residuals and the noise measured between repeats, if any."""
+    d = eng.data
+    r = step.fit.resid
+    nm = estimate_noise(r, SweepLayout(d.sweep, eng.G))
+    sd = float(np.sqrt(np.mean(np.asarray(nm.sd) ** 2)))
+    tau = float(np.asarray(nm.tau).ravel()[0])
+    return {"noise_model": {"sd_N": sd, "rho": float(np.asarray(nm.rho).ravel()[0]), "tau_N": tau,
+                            "predicted_rmse_N": float(np.hypot(sd, tau))},
+            "repeat_noise": repeat_noise(d.inputs.slip_angle, r, d.sweep, d.cell)}
+
+
+def _repeat_test(d: SweepData) -> str:
+    """The repeat test that separates a misfit from correlated noise: the same sweep run twice."""
+    fz = np.asarray(d.levels["fz"], dtype=float)
+    hi = fz.max()
+    return (f"run one sweep twice in a row at the same conditions (e.g. the {hi / 1e3:.1f} kN sweep at the middle "
+            "camber and pressure): the difference between the two runs is the noise alone, and the model's "
+            "held-out error is then judged against it")

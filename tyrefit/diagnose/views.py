@@ -139,25 +139,34 @@ def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24
     allv = np.concatenate([g.ravel() for row in grids for g in row])
     vmax = float(np.nanpercentile(np.abs(allv), 98)) if np.isfinite(allv).any() else 1.0
     vmax = max(vmax, 1e-9)
+    # facets in a grid a report can show at its width: with pressure and camber, one column per camber
+    # level and one row per pressure level; otherwise up to 4 columns; one such block per step
+    n_cam = len(d.levels["camber"])
+    ncol = min(n_cam if "pressure" in d.levels and n_cam > 1 else len(fc), 4)
+    nrow_b = -(-len(fc) // ncol)
+    nrows = nrow_b * len(sts)
     if fig is None:
-        fig = Figure(figsize=(2.6 * len(fc) + 1.2, 2.3 * len(sts) + 0.6))
-    axes = fig.subplots(len(sts), len(fc), squeeze=False, sharex=True, sharey=True)
+        fig = Figure(figsize=(min(3.4 * ncol + 1.6, 13.0), 2.5 * nrows + 0.9), layout="constrained")
+    axes = fig.subplots(nrows, ncol, squeeze=False, sharex=True, sharey=True)
     im = None
     for i, st in enumerate(sts):
+        name = "start model" if st is diagnosis.steps[0] else ("final model" if st is diagnosis.steps[-1]
+                                                               else f"+ {st.added}")
         for j, (c, p) in enumerate(fc):
-            ax = axes[i, j]
+            ax = axes[i * nrow_b + j // ncol, j % ncol]
             im = ax.imshow(grids[i][j], aspect="auto", origin="lower", cmap="RdBu_r", vmin=-vmax, vmax=vmax,
                            extent=(edges[0] / _DEG, edges[-1] / _DEG, -0.5, nl - 0.5), interpolation="nearest")
-            ax.set_yticks(range(nl), [f"{v / 1e3:.1f}" for v in d.levels["fz"]], fontsize=7)
-            if i == 0:
-                ax.set_title(_facet_title(d, c, p), fontsize=8)
-            if i == len(sts) - 1:
-                ax.set_xlabel("slip angle [deg]", fontsize=8)
-            if j == 0:
-                name = "start" if st is diagnosis.steps[0] else ("final" if st is diagnosis.steps[-1]
-                                                                  else f"+ {st.added}")
-                ax.set_ylabel(f"{name}\nFz [kN]", fontsize=8)
-    fig.colorbar(im, ax=axes, shrink=0.8, label="mean residual model - data [N]")
+            ax.set_yticks(range(nl), [f"{v / 1e3:.1f}" for v in d.levels["fz"]], fontsize=9)
+            ax.tick_params(axis="x", labelsize=9)
+            ax.set_title(f"{name}: {_facet_title(d, c, p)}", fontsize=10)
+            if j % ncol == 0:
+                ax.set_ylabel("Fz [kN]", fontsize=10)
+        for j in range(len(fc), nrow_b * ncol):  # unused cells of the block's last row
+            axes[i * nrow_b + j // ncol, j % ncol].set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel("slip angle [deg]", fontsize=10)
+    cb = fig.colorbar(im, ax=axes, shrink=0.8)
+    cb.set_label("mean residual model - data [N]", fontsize=10)
     return fig
 
 

@@ -237,6 +237,8 @@ def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_
            # per accepted effect: its held-out gain's p-value against the noise model (NaN with sweep flips)
            "accepted_p_heldout": [_finite(getattr(dg.candidates.get(a), "p_heldout", float("nan"))) for a in acc],
            "margin": float(dg.settings.margin * dg.noise_floor),
+           # the closing verdict on what is left: 'noise' (nothing left), 'structure' or 'undecided'
+           "verdict": dg.unexplained.get("verdict"),
            "seconds": time.perf_counter() - t0}
     # the fitted models on an independent rerun of the same test (new load jitter, new noise) and against the
     # noise-free truth; for effects on one sweep per load, the same scores of the truth's own form refitted
