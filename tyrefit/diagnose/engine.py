@@ -115,7 +115,7 @@ import time
 import numpy as np
 
 from ..effects import EFFECTS, Effect, get_effect, parse_effects
-from ..errors import DataError, FitError
+from ..errors import DataError, FitError, option
 from ..fitting._blas import single_threaded_blas
 from .advice import build_advice, peak_reach
 from .data import SweepData, prepare
@@ -404,7 +404,7 @@ def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, sett
             raise DataError(f"start effect {eid!r} cannot be fitted to these data: {testable[eid]}")
     fams = [get_effect(e).family for e in start_ids]
     if len(set(fams)) < len(fams):
-        raise DataError(f"--start names two variants of one family: {', '.join(start_ids)}")
+        raise DataError(f"{option('start')} names two variants of one family: {', '.join(start_ids)}")
     eng = _Engine(data, s, seed)
     floor, floor_per_sweep = noise_floor(data.inputs.slip_angle, data.fy, data.sweep, fz=data.inputs.fz)
     if not np.isfinite(floor) or floor <= 0:
@@ -927,6 +927,14 @@ def _unexplained(eng: _Engine, step: Step, floor: float, s: Settings, cands: dic
                     "sweep to sweep; the record has no repeated sweep to tell them apart. To decide: "
                     + _repeat_test(eng.data) + f" (omnibus score test p = {t.p_value:.3g})")
             verdict = "undecided"
+    elif mf["ratio"] > MISFIT_RATIO and not within_repeats:
+        # too few sweeps (< 6) to hold sweeps out of the misfit check: an excess over the floor stays open
+        text = (f"undecided: no structure detected (omnibus score test p = {t.p_value:.3g}, {n_dir} smooth slip x "
+                f"condition directions), but the {level}, and {eng.G} sweeps are too few to tell a misfit from "
+                "noise correlated along the sweeps. To decide: " + _repeat_test(eng.data))
+        if where:
+            text += "; largest local errors: " + "; ".join(where)
+        verdict = "undecided"
     else:
         text = (f"no structure detected beyond the noise (omnibus score test p = {t.p_value:.3g}, "
                 f"{n_dir} smooth slip x condition directions; {level})")
