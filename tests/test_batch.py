@@ -171,7 +171,7 @@ def test_resume_skips_up_to_date_refits_stale_and_force_refits_all(tmp_path, db)
     tir.write_text(tir.read_text() + "$ my edit\n")
     edited = batch_fit(src, out, workers=1, progress=False, cost="l1")
     rec = {r["name"]: r for r in edited.records}["tyre_0002"]
-    assert rec["status"] == "failed" and "changed since" in rec["error"] and "--force" in rec["error"]
+    assert rec["status"] == "failed" and "changed since" in rec["error"] and "force=True" in rec["error"]
     assert tir.read_text().endswith("$ my edit\n")
 
     forced = batch_fit(src, out, workers=1, progress=False, force=True)
@@ -189,7 +189,7 @@ def test_foreign_tir_is_not_replaced_without_force(tmp_path, db):
     old = time.time() - 3600
     os.utime(foreign, (old, old))  # older than the data, and no status record: not ours
     res = batch_fit(src, out, workers=1, progress=False)
-    assert res.records[0]["status"] == "failed" and "--force" in res.records[0]["error"]
+    assert res.records[0]["status"] == "failed" and "force=True" in res.records[0]["error"]
     assert foreign.read_text() == "someone else's file\n"
     res = batch_fit(src, out, workers=1, progress=False, force=True)
     assert res.n_ok == 1 and read_tir(foreign).coefficients["a0"] > 1

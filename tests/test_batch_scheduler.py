@@ -70,7 +70,7 @@ def test_address_parsing():
     assert scheduler_address("localhost") == ("tcp", "localhost", 8786)
     assert scheduler_address("TLS://[::1]:9000") == ("tls", "::1", 9000)
     for bad in BAD[1:6]:
-        with pytest.raises(DataError, match="--scheduler"):
+        with pytest.raises(DataError, match="^scheduler="):  # the keyword; the CLI says --scheduler
             scheduler_address(bad)
 
 

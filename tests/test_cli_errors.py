@@ -234,3 +234,30 @@ def test_disk_full_is_one_line_and_keeps_the_earlier_tyre(tmp_path):
     assert r.stderr.count("\n") == 1 and "t.tir: cannot write (file too large" in r.stderr
     assert tir.read_text() == "earlier tyre\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.csv", "t.tir"]
+
+
+def test_messages_name_keywords_in_python_and_flags_on_the_command_line(tmp_path, capsys):
+    """One message, two spellings: ``rated_load=`` for a Python caller, ``--rated-load`` for the CLI user."""
+    import tyrefit as tf
+    from tyrefit.errors import DataError
+
+    data = Path(__file__).resolve().parents[1] / "data" / "truck" / "tyre_a_dynamic.csv"
+    with pytest.raises(DataError) as e:
+        tf.fit(str(data), rated_load=-5.0)
+    assert str(e.value).startswith("rated_load=-5.0") and "--" not in str(e.value)
+    assert main(["fit", str(data), "--rated-load", "-5", "--out", str(tmp_path / "t.tir")]) == 2
+    err = capsys.readouterr().err
+    assert "--rated-load -5" in err and "rated_load=" not in err
+
+
+def test_library_message_rendered_for_the_command_line(tmp_path, capsys):
+    """A message raised deep in the library (the tyre size parser) reads as flags under the CLI."""
+    data = Path(__file__).resolve().parents[1] / "data" / "truck" / "tyre_a_dynamic.csv"
+    assert main(["fit", str(data), "--size", "banana", "--out", str(tmp_path / "t.tir")]) == 2
+    err = capsys.readouterr().err
+    assert "--size 'banana'" in err and "size=" not in err
+    import tyrefit as tf
+    from tyrefit.errors import DataError
+
+    with pytest.raises(DataError, match=r"^size='banana'"):
+        tf.fit(str(data), size="banana")

@@ -9,7 +9,7 @@ from tyrefit.io.outputs import atomic_write, check_output, staged_dir, write_tex
 def test_write_text_creates_and_refuses_to_replace(tmp_path):
     p = tmp_path / "out.txt"
     write_text(p, "first")
-    with pytest.raises(OutputExistsError, match="--force"):
+    with pytest.raises(OutputExistsError, match="force=True"):
         write_text(p, "second")
     assert p.read_text() == "first"
     write_text(p, "second", force=True)

@@ -37,7 +37,7 @@ def test_json_naming_an_existing_folder_is_refused(tmp_path, capsys):
 def test_dangling_symlink_output_needs_force(tmp_path, capsys):
     link = tmp_path / "out.json"
     link.symlink_to(tmp_path / "nowhere.json")
-    with pytest.raises(OutputExistsError, match="--force"):
+    with pytest.raises(OutputExistsError, match="force=True"):
         check_output(link)
     assert main(["inspect", DATA, "--json", str(link)]) == 2
     assert "--force" in capsys.readouterr().err and link.is_symlink() and not link.exists()

@@ -84,6 +84,6 @@ def test_fx_against_slip_ratio_of_the_wrong_sign():
     bad = dataclasses.replace(ds, df=d)
     (f,) = mirrored_findings(bad)
     assert f.check == "fx_slip" and "falls with slip ratio" in f.message
-    with pytest.raises(ValueRangeError, match="allow-mirrored"):
+    with pytest.raises(ValueRangeError, match="allow_mirrored=True"):
         check_mirrored(bad)
     assert check_mirrored(bad, allow=True) == [f.message]

@@ -171,5 +171,5 @@ def test_simulate_ramp_json_and_strict(tyres, tmp_path):
     run = simulate("ramp", vehicle="fsae")
     assert run.json["tyres"]["front"]["outside_envelope"] == 1.0 and run.warnings
     assert "load" in run.json["tyres"]["front"]["worst"]
-    with pytest.raises(ValueRangeError, match="--strict: front tyre"):
+    with pytest.raises(ValueRangeError, match="strict=True: front tyre"):
         simulate("ramp", vehicle="fsae", strict=True)

@@ -36,7 +36,7 @@ import importlib
 import math
 from collections.abc import Sequence
 
-from .errors import TyrefitError
+from .errors import TyrefitError, cli_style
 
 __all__ = ["main", "build_parser", "run_checked"]
 
@@ -437,7 +437,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not isinstance(outer, _PipeSafeStdout):
             sys.stdout = _PipeSafeStdout(outer)
         try:
-            return _main(args)
+            with cli_style():  # messages name options as flags (--rated-load), not keywords
+                return _main(args)
         finally:
             if sys.stdout is not outer:
                 sys.stdout.flush()

@@ -7,13 +7,19 @@ built-in it resembles, so ``except ValueError`` keeps working for callers who
 do not know about tyrefit (the python-control / scikit-learn pattern).
 
 Messages name the file, the column or row, the bad value with its unit, and
-what is accepted.
+what is accepted.  An option a message names is written with :func:`option`,
+so the same message reads ``rated_load=-5`` to a Python caller and
+``--rated-load -5`` on the command line (:func:`cli_style`, which the command
+line enters around each command).
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import difflib
-from collections.abc import Iterable
+import re
+from collections.abc import Iterable, Iterator
 
 __all__ = [
     "TyrefitError",
@@ -28,11 +34,54 @@ __all__ = [
     "FitError",
     "ModelError",
     "close_matches",
+    "option",
+    "cli_style",
 ]
+
+_STYLE: contextvars.ContextVar[str] = contextvars.ContextVar("tyrefit_option_style", default="api")
+_TOKEN = re.compile("\x1f([A-Za-z_][A-Za-z0-9_]*)(?:\x1c([A-Za-z0-9-]+))?(?:\x1e(.*?))?\x1d(b?)\x1f", re.S)
+
+
+def option(name: str, value=None, *, flag: bool = False, cli: str | None = None) -> str:
+    """An option named in a message: ``name=value`` for Python callers, ``--name value`` on the command line.
+
+    ``flag=True`` for a switch (``force``): ``force=True`` / ``--force``.  ``value`` is put in as it is
+    given (format it first, e.g. ``repr(s)``).  ``cli``: the flag's name where it is not the keyword's
+    (``option("out_dir", cli="out")``).
+    """
+    c = "" if cli is None else "\x1c" + cli
+    v = "" if value is None else "\x1e" + str(value)
+    return f"\x1f{name}{c}{v}\x1d{'b' if flag else ''}\x1f"
+
+
+def render(text: str, style: str | None = None) -> str:
+    """``text`` with its :func:`option` tokens written for ``style`` ('api' or 'cli'; default: the current one)."""
+    st = style or _STYLE.get()
+
+    def one(m: re.Match) -> str:
+        name, cli, value, flag = m.group(1), m.group(2), m.group(3), bool(m.group(4))
+        if st == "cli":
+            return "--" + (cli or name.replace("_", "-")) + ("" if value is None else " " + value)
+        return name + "=" + ("True" if flag else (value if value is not None else ""))
+
+    return _TOKEN.sub(one, text)
+
+
+@contextlib.contextmanager
+def cli_style() -> Iterator[None]:
+    """Within this block, messages name options as command-line flags (``--rated-load``)."""
+    token = _STYLE.set("cli")
+    try:
+        yield
+    finally:
+        _STYLE.reset(token)
 
 
 class TyrefitError(Exception):
     """Base class of every error tyrefit raises on purpose."""
+
+    def __str__(self) -> str:
+        return render(super().__str__())
 
 
 class DataError(TyrefitError, ValueError):

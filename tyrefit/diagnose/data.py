@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 from ..effects.base import DataSummary, ModelInputs
-from ..errors import ColumnError, DataError
+from ..errors import ColumnError, DataError, option
 from ..fitting.noise import MAX_POINTS_PER_SWEEP
 
 __all__ = ["SweepData", "prepare", "condition_levels", "FACTORS"]
@@ -265,7 +265,7 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = M
                         "(at least 20 points)")
     if (d["fz"] <= 0).mean() > 0.5:
         raise DataError(f"{source or 'data'}: most fz values are <= 0 N; fz must be positive in compression "
-                        "(ISO-W) - for FSAE TTC files pass --convention sae")
+                        f"(ISO-W) - for FSAE TTC files pass {option('convention', 'sae')}")
     d = d[d["fz"] > 0].reset_index(drop=True)
     n_raw = len(d)
     camber = d["camber"].to_numpy(float) if "camber" in d.columns else np.zeros(n_raw)

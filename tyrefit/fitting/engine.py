@@ -77,7 +77,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..errors import DataError, FitError
+from ..errors import DataError, FitError, option
 from ..models import pac89
 from . import initial as ini
 from ._blas import single_threaded_blas
@@ -234,7 +234,7 @@ def prepare_data(data, *, screen: bool = True) -> tuple[dict[str, PartData], dic
     if info.get("kind") == "static" or ("lateral_displacement" in df and "slip_angle" not in df):
         raise DataError(f"{info['source'] or 'data'}: static-rig data (lateral displacement) must first be turned "
                         "into slip angles with tyrefit.rig.prepare_static_fit (Komana et al. Eq. 1, needs the "
-                        "contact-patch length); 'tyrefit fit' does this with --patch PATCH.csv")
+                        f"contact-patch length); the fit does this with {option('patch', 'PATCH.csv')}")
     parts: dict[str, PartData] = {}
     dropped, ramps = [], []
     lat_runs, lon_runs = [], []

@@ -168,7 +168,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..errors import DataError, FitError
+from ..errors import DataError, FitError, option
 from ..tyres.contract import ALIGN_DEG, G_TOL, slip_grid
 from ..models import mf61
 from . import initial as ini, mf_parts
@@ -269,7 +269,7 @@ def effect_coefficients(ids: Sequence[str]) -> tuple[list[str], list[str]]:
             else:
                 from ..errors import close_matches
 
-                raise DataError(f"unknown effect {eid!r} for --model mf61; known: {', '.join(EFFECT_COEFFICIENTS)}"
+                raise DataError(f"unknown effect {eid!r} for {option('model', 'mf61')}; known: {', '.join(EFFECT_COEFFICIENTS)}"
                                 + close_matches(eid, EFFECT_COEFFICIENTS))
         vary += [k for k in coeffs if k not in vary]
         if eid in _EFFECT_NOTES:
@@ -429,7 +429,7 @@ def prepare_mf_data(data, *, convention: str = "iso") -> MFData:
             raise DataError(f"{src}: neither slip_angle nor slip_ratio: a Magic Formula fit needs slip sweeps")
         if "lateral_displacement" in df and "slip_angle" not in df:
             raise DataError(f"{src}: static-rig data (lateral displacement) cannot be fitted to a Magic Formula "
-                            "tyre; fit them with --model pac89 and --patch")
+                            f"tyre; fit them with {option('model', 'pac89')} and {option('patch')}")
         d = pd.DataFrame(index=df.index)
         for c in ("fz", "slip_angle", "slip_ratio", "camber", "pressure", "speed") + _CHANNELS:
             d[c] = pd.to_numeric(df[c], errors="coerce").astype(float) if c in df else np.nan
@@ -2158,7 +2158,7 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
     """
     t0 = time.perf_counter()
     if model not in _MODELS:
-        raise DataError(f"--model {model!r}: a Magic Formula fit takes mf61 or mf52")
+        raise DataError(f"{option('model', repr(model))}: a Magic Formula fit takes mf61 or mf52")
     if cost not in ("l1", "l2"):
         raise DataError(f"cost {cost!r} is not known; accepted: 'l1' (Komana et al. Eq. 5) or 'l2' (least squares)")
     version = _MODELS[model]
@@ -2243,4 +2243,4 @@ def _check_orientation(data: MFData, p, version) -> None:
     if _orientation(pts, "slip_angle", "fy") < 0:
         raise DataError(f"{', '.join(data.sources)}: the lateral force rises with slip angle; in ISO-W (tyrefit's "
                         "convention) a positive slip angle gives a negative lateral force. If the file uses the SAE "
-                        "convention (FSAE TTC), pass --convention sae")
+                        f"convention (FSAE TTC), pass {option('convention', 'sae')}")

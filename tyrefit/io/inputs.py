@@ -20,7 +20,7 @@ import os
 import stat
 from pathlib import Path
 
-from ..errors import FormatError, InputError
+from ..errors import FormatError, InputError, option
 
 __all__ = ["check_input", "read_input_bytes", "set_max_size_mb", "max_size_mb", "DEFAULT_MAX_MB"]
 
@@ -37,7 +37,7 @@ def set_max_size_mb(mb: float | None) -> None:
         return
     mb = float(mb)
     if not (math.isfinite(mb) and mb > 0):
-        raise InputError(f"--max-size {mb:g}: the size limit must be a positive number of megabytes")
+        raise InputError(f"{option('max_size', f'{mb:g}')}: the size limit must be a positive number of megabytes")
     _MAX_MB = mb
 
 
@@ -88,7 +88,7 @@ def check_input(path: str | os.PathLike, what: str = "a data file", folder_ok: b
     limit = _MAX_MB * 1e6
     if st.st_size > limit:
         raise InputError(f"{p}: {st.st_size / 1e6:.3g} MB is over the input size limit of {_MAX_MB:g} MB; "
-                         "pass --max-size MB to raise it")
+                         f"pass {option('max_size', 'MB')} to raise it")
     if not os.access(p, os.R_OK):
         raise InputError(f"{p}: cannot read (permission denied)")
     return p
@@ -104,5 +104,6 @@ def read_input_bytes(path: str | os.PathLike, what: str = "a data file") -> byte
     except OSError as exc:
         raise FormatError(f"{p}: cannot read ({exc.strerror})") from None
     if len(data) > limit:  # grew while reading
-        raise InputError(f"{p}: over the input size limit of {_MAX_MB:g} MB; pass --max-size MB to raise it")
+        raise InputError(f"{p}: over the input size limit of {_MAX_MB:g} MB; pass {option('max_size', 'MB')} to "
+                         "raise it")
     return data

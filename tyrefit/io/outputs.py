@@ -46,7 +46,7 @@ import tempfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-from ..errors import OutputError, OutputExistsError
+from ..errors import OutputError, OutputExistsError, option
 
 __all__ = ["check_output", "check_outputs", "atomic_write", "write_text", "write_bytes", "staged_dir",
            "output_run", "OutputRun", "current_run", "MANIFEST", "os_error_message", "read_manifest"]
@@ -182,7 +182,7 @@ def check_output(path: str | os.PathLike, force: bool = False) -> Path:
     if run is not None:
         run.check_not_input(p)
     if (p.exists() or p.is_symlink()) and not force:
-        raise OutputExistsError(f"{p}: output exists; pass --force to replace it")
+        raise OutputExistsError(f"{p}: output exists; pass {option('force', flag=True)} to replace it")
     return p
 
 
@@ -190,7 +190,7 @@ def check_report_dir(path: str | os.PathLike, force: bool = False) -> Path:
     """Check a report folder before any work (see the module notes)."""
     p = Path(path)
     if p.exists() and not p.is_dir():
-        raise OutputError(f"{p}: is a file; --report needs a folder")
+        raise OutputError(f"{p}: is a file; {option('report')} needs a folder")
     for parent in p.parents:
         if parent.exists():
             if not parent.is_dir():
@@ -201,8 +201,9 @@ def check_report_dir(path: str | os.PathLike, force: bool = False) -> Path:
         if files and not force:
             foreign = files - read_manifest(p)
             extra = (f"; it holds {len(foreign)} file{'s' if len(foreign) != 1 else ''} tyrefit did not write "
-                     f"(e.g. {sorted(foreign)[0]}), which --force keeps") if foreign else ""
-            raise OutputExistsError(f"{p}: report folder exists and is not empty; pass --force to replace "
+                     f"(e.g. {sorted(foreign)[0]}), which {option('force', flag=True)} keeps") if foreign else ""
+            raise OutputExistsError(f"{p}: report folder exists and is not empty; pass "
+                                    f"{option('force', flag=True)} to replace "
                                     f"tyrefit's own files in it{extra}")
     return p
 
@@ -278,7 +279,7 @@ class OutputRun:
             src = self.input_ids.get(ident) if ident is not None else None
         if src is not None:
             raise OutputError(f"{path}: is an input of this run ({src}); tyrefit never writes over its inputs, "
-                              "even with --force: choose another output name")
+                              f"even with {option('force', flag=True)}: choose another output name")
 
     def _report_of(self, r: Path) -> Path | None:
         for d in self.reports:
@@ -302,9 +303,10 @@ class OutputRun:
             rel = r.relative_to(rep).as_posix()
             if rel not in read_manifest(rep):
                 raise OutputExistsError(f"{path}: not written by tyrefit (not in {rep.name}/{MANIFEST}); it is "
-                                        "never replaced, even with --force: move it or choose another --report")
+                                        f"never replaced, even with {option('force', flag=True)}: move it or choose "
+                                        f"another {option('report')}")
         if r.exists() and not (force or self.force):
-            raise OutputExistsError(f"{path}: output exists; pass --force to replace it")
+            raise OutputExistsError(f"{path}: output exists; pass {option('force', flag=True)} to replace it")
 
     # -- staging ----------------------------------------------------------------
     def makedirs(self, d: Path) -> None:
@@ -341,7 +343,8 @@ class OutputRun:
                 if target.exists():
                     if rel not in read_manifest(dest):
                         raise OutputExistsError(f"{target}: not written by tyrefit (not in {dest.name}/{MANIFEST});"
-                                                " it is never replaced, even with --force: move it or choose "
+                                                f" it is never replaced, even with {option('force', flag=True)}: move "
+                                                "it or choose "
                                                 "another output folder")
                     self.check_not_input(target)
                 items.append((target, tmpdir / rel, target))

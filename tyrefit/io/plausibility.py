@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ..errors import ValueRangeError
+from ..errors import ValueRangeError, option
 
 __all__ = ["Finding", "mirrored_findings", "check_mirrored", "camber_thrust", "pneumatic_trail", "fx_slip_slope"]
 
@@ -176,6 +176,7 @@ def check_mirrored(ds, allow: bool = False) -> list[str]:
     messages (warnings when allowed, else an empty list)."""
     found = mirrored_findings(ds)
     if found and not allow:
-        raise ValueRangeError("; ".join(f.message for f in found) + " (pass --allow-mirrored if the tyre really "
-                              "is so; a sign convention is fixed with --convention)")
+        raise ValueRangeError("; ".join(f.message for f in found)
+                              + f" (pass {option('allow_mirrored', flag=True)} if the "
+                              f"tyre really is so; a sign convention is fixed with {option('convention')})")
     return [f.message for f in found]

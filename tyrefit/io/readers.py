@@ -55,7 +55,7 @@ import numpy as np
 import pandas as pd
 
 from .. import nomenclature as nm
-from ..errors import ColumnError, DataError, FormatError, UnitError, ValueRangeError
+from ..errors import ColumnError, DataError, FormatError, UnitError, ValueRangeError, option
 from .table import RawTable, map_headers, parse_cells
 from .ttc import parse_ttc
 from .tydex import parse_tydex
@@ -509,7 +509,8 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
     if "fz" in df and convention == "iso" and _numeric(df["fz"]) and np.nanmedian(df["fz"]) < 0:
         raise ValueRangeError(f"{p}: column '{t.headers['fz']}' is mostly negative (median "
                               f"{np.nanmedian(df['fz']):.4g} N); tyrefit holds loads positive in compression: if the "
-                              "file uses the SAE convention (FZ negative, as FSAE TTC) pass --convention sae")
+                              "file uses the SAE convention (FZ negative, as FSAE TTC) pass "
+                              f"{option('convention', 'sae')}")
     # runs ----------------------------------------------------------------
     if not t.segment and _continuous_record(df, kind):
         t.segment = True
@@ -994,7 +995,7 @@ def require_patch(ds: Dataset, patch=None) -> Dataset | None:
         return _as_dataset(patch, kind="patch") if patch is not None else None
     if patch is None:
         raise DataError(f"{ds.source}: a static-rig (lateral displacement) test needs contact-patch data to turn "
-                        "displacement into slip angle (Komana et al. Eq. 1); give --patch PATCH.csv with "
+                        f"displacement into slip angle (Komana et al. Eq. 1); give {option('patch', 'PATCH.csv')} with "
                         "'length [mm]' and 'load [kg]' or 'fz [N]'")
     pds = _as_dataset(patch, kind="patch")
     if pds.kind != "patch":

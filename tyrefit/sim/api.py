@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import DataError, ValueRangeError
+from ..errors import DataError, ValueRangeError, option
 from ..nomenclature import G0
 from .vehicle_file import VehicleSpec, load_vehicle
 from ..tyres.base import Tyre
@@ -144,7 +144,7 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
              f"the simulated time; worst: {s['worst']}"
              for role, s in summary.items() if s["outside_envelope"] > 0]
     if strict and warns:
-        raise ValueRangeError(f"--strict: {warns[0]}" + (f" (and the {warns[1].split()[0]} tyre)" if len(warns) > 1
+        raise ValueRangeError(f"{option('strict', flag=True)}: {warns[0]}" + (f" (and the {warns[1].split()[0]} tyre)" if len(warns) > 1
                                                          else ""))
     return SimRun(scenario, doc, res, spec, tyres, points, warns)
 

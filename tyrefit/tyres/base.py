@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError, ValueRangeError
+from ..errors import ModelError, ValueRangeError, option
 
 __all__ = ["Tyre", "MirroredTyre", "FAMILIES", "require_physical", "broadcast_inputs"]
 
@@ -340,6 +340,6 @@ def require_physical(tyre: Tyre, source: str = "", allow_unphysical: bool = Fals
         where = f"{source}: " if source else ""
         more = f"; and {len(problems) - 1} more" if len(problems) > 1 else ""
         raise ModelError(f"{where}the tyre is not physical over its declared range: {problems[0]}{more} "
-                         "(--allow-unphysical evaluates it anyway)")
+                         f"({option('allow_unphysical', flag=True)} evaluates it anyway)")
     return problems
 

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import DataError
+from ..errors import DataError, option
 from ..models import mf61
 
 __all__ = ["TyreSize", "parse_size", "size_and_rated_load", "design_estimates", "complete_design", "G0", "loaded_radius_law",
@@ -106,7 +106,7 @@ def parse_size(text: str) -> TyreSize:
     """
     s = str(text).strip()
     if len(s) > 60:
-        raise DataError(f"--size {s[:40]!r}...: not a tyre size; expected e.g. 385/65R22.5 or 205/55R16")
+        raise DataError(f"{option('size', repr(s[:40]))}...: not a tyre size; expected e.g. 385/65R22.5 or 205/55R16")
     m = _METRIC.fullmatch(s.split()[0]) if s else None
     if m is None and s:
         m = _METRIC.match(s)
@@ -115,14 +115,14 @@ def parse_size(text: str) -> TyreSize:
     else:
         f = _FLOTATION.match(s) if s else None
         if f is None:
-            raise DataError(f"--size {s!r}: not a tyre size; expected an ISO metric size such as 385/65R22.5 or "
+            raise DataError(f"{option('size', repr(s))}: not a tyre size; expected an ISO metric size such as 385/65R22.5 or "
                             "205/55R16, or a flotation size such as 37x12.5R16.5")
         diameter, width, rim = (float(f.group(i)) * _INCH for i in (1, 2, 3))
         if not diameter > rim:
-            raise DataError(f"--size {s!r}: the overall diameter is not larger than the rim")
+            raise DataError(f"{option('size', repr(s))}: the overall diameter is not larger than the rim")
         aspect = 0.5 * (diameter - rim) / width
     if not (0.1 <= width <= 1.0 and 0.2 <= aspect <= 1.2 and 8 * _INCH <= rim <= 63 * _INCH):
-        raise DataError(f"--size {s!r}: width {width * 1e3:.0f} mm, aspect ratio {aspect * 100:.0f} %, rim "
+        raise DataError(f"{option('size', repr(s))}: width {width * 1e3:.0f} mm, aspect ratio {aspect * 100:.0f} %, rim "
                         f"{rim / _INCH:g} in is not a tyre; expected e.g. 385/65R22.5")
     return TyreSize(s, width, aspect, rim)
 
@@ -138,7 +138,7 @@ def size_and_rated_load(size: str | None, rated_load: float | None) -> TyreSize 
         the rated load is not a positive, finite force, or the size is not a tyre size (:func:`parse_size`).
     """
     if rated_load is not None and not (math.isfinite(rated_load) and rated_load > 0):
-        raise DataError(f"--rated-load {rated_load!r}: the rated load must be a positive, finite force in N")
+        raise DataError(f"{option('rated_load', repr(rated_load))}: the rated load must be a positive, finite force in N")
     return parse_size(size) if size else None
 
 

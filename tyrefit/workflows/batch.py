@@ -74,7 +74,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import DataError, OutputExistsError, TyrefitError
+from ..errors import DataError, OutputExistsError, TyrefitError, option
 from ..io.outputs import write_text
 from .._version import __version__
 from ..io.report import Report
@@ -504,13 +504,13 @@ def _plan(paths: Sequence[Path], out: Path, force: bool, options: dict[str, Any]
                 continue
             if side is not None and not ours:
                 err = OutputExistsError(f"{tir}: changed since 'tyrefit batch fit' wrote it (its SHA-256 differs "
-                                        f"from {_sidecar(tir).name}); pass --force to replace it")
+                                        f"from {_sidecar(tir).name}); pass {option('force', flag=True)} to replace it")
                 done.append({"name": name, "status": "failed", "source": str(path), "tir": str(tir),
                              "error": _one_line(err), "time_s": 0.0})
                 continue
             if side is None and not prev:  # not written by this batch: never replace without force
                 err = OutputExistsError(f"{tir}: exists and was not written by 'tyrefit batch fit' (no "
-                                        f"{_sidecar(tir).name}); pass --force to replace it")
+                                        f"{_sidecar(tir).name}); pass {option('force', flag=True)} to replace it")
                 done.append({"name": name, "status": "failed", "source": str(path), "tir": str(tir),
                              "error": _one_line(err), "time_s": 0.0})
                 continue
@@ -639,26 +639,26 @@ def scheduler_address(scheduler) -> tuple[str, str, int] | None:
                "ucx": "the UCX transport is not supported by tyrefit batch",
                "ws": "websocket transports are not supported by tyrefit batch",
                "wss": "websocket transports are not supported by tyrefit batch"}.get(scheme, "unknown scheme")
-        raise DataError(f"--scheduler {text!r} (Dask scheduler address): {why}; {accepted}")
+        raise DataError(f"{option('scheduler', repr(text))} (Dask scheduler address): {why}; {accepted}")
     if "/" in rest or not rest:
-        raise DataError(f"--scheduler {text!r} (Dask scheduler address): not a host:port address; {accepted}")
+        raise DataError(f"{option('scheduler', repr(text))} (Dask scheduler address): not a host:port address; {accepted}")
     if rest.startswith("["):
         host, close, tail = rest[1:].partition("]")
         if not close or not host:
-            raise DataError(f"--scheduler {text!r} (Dask scheduler address): an IPv6 address needs its closing bracket, e.g. tcp://[::1]:8786")
+            raise DataError(f"{option('scheduler', repr(text))} (Dask scheduler address): an IPv6 address needs its closing bracket, e.g. tcp://[::1]:8786")
         if tail and not tail.startswith(":"):
-            raise DataError(f"--scheduler {text!r} (Dask scheduler address): not a host:port address; {accepted}")
+            raise DataError(f"{option('scheduler', repr(text))} (Dask scheduler address): not a host:port address; {accepted}")
         port_text = tail[1:] if tail else ""
     else:
         host, _, port_text = rest.rpartition(":") if ":" in rest else (rest, "", "")
         if ":" in host:
-            raise DataError(f"--scheduler {text!r} (Dask scheduler address): write an IPv6 address in brackets, e.g. tcp://[::1]:8786")
+            raise DataError(f"{option('scheduler', repr(text))} (Dask scheduler address): write an IPv6 address in brackets, e.g. tcp://[::1]:8786")
     if not host:
-        raise DataError(f"--scheduler {text!r} (Dask scheduler address): no host; {accepted}")
+        raise DataError(f"{option('scheduler', repr(text))} (Dask scheduler address): no host; {accepted}")
     if port_text == "":
         port = 8786
     elif not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
-        raise DataError(f"--scheduler {text!r} (Dask scheduler address): port {port_text!r} is not a number from 1 to 65535; {accepted}")
+        raise DataError(f"{option('scheduler', repr(text))} (Dask scheduler address): port {port_text!r} is not a number from 1 to 65535; {accepted}")
     else:
         port = int(port_text)
     return scheme, host, port
@@ -675,12 +675,12 @@ def scheduler_from_file(path: str | os.PathLike) -> str:
     try:
         info = json.loads(p.read_text(encoding="utf-8"))
     except OSError as exc:
-        raise DataError(f"--scheduler-file {p}: cannot be read ({exc.strerror or exc.__class__.__name__})") from None
+        raise DataError(f"{option('scheduler_file', p)}: cannot be read ({exc.strerror or exc.__class__.__name__})") from None
     except ValueError:
-        raise DataError(f"--scheduler-file {p}: not a Dask scheduler file (not JSON)") from None
+        raise DataError(f"{option('scheduler_file', p)}: not a Dask scheduler file (not JSON)") from None
     address = info.get("address") if isinstance(info, dict) else None
     if not isinstance(address, str) or not address.strip():
-        raise DataError(f"--scheduler-file {p}: no 'address' in it; Dask's scheduler writes one with "
+        raise DataError(f"{option('scheduler_file', p)}: no 'address' in it; Dask's scheduler writes one with "
                         "'dask scheduler --scheduler-file FILE'")
     scheduler_address(address)
     return address.strip()
@@ -712,7 +712,7 @@ def _dask_client(scheduler):
     try:
         from distributed import Client
     except ImportError:
-        raise DataError("--scheduler needs Dask's distributed scheduler; install it with "
+        raise DataError(f"{option('scheduler')} needs Dask's distributed scheduler; install it with "
                         "'pip install tyrefit[dask]' (or dask[distributed])") from None
     if isinstance(scheduler, Client):
         return scheduler, False
@@ -725,7 +725,7 @@ def _dask_client(scheduler):
     address = f"{scheme}://{f'[{host}]' if ':' in host else host}:{port}"
     security = Security()  # Dask's configuration: distributed.comm.tls.* (files or DASK_* variables)
     if scheme == "tls" and security.get_connection_args("client").get("ssl_context") is None:
-        raise DataError(f"--scheduler {address}: TLS needs Dask's security options (a CA file and this "
+        raise DataError(f"{option('scheduler', address)}: TLS needs Dask's security options (a CA file and this "
                         "client's certificate and key: distributed.comm.tls.ca-file, .client.cert, .client.key "
                         "in Dask's configuration or DASK_DISTRIBUTED__COMM__TLS__* variables); see the README")
     warning = scheduler_warning((scheme, host, port))
@@ -849,12 +849,12 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
     if convention not in ("iso", "sae"):
         raise DataError(f"unknown sign convention {convention!r}; accepted: 'iso', 'sae'")
     if workers is not None and int(workers) < 1:
-        raise DataError(f"--workers {workers}: need at least 1 worker process")
+        raise DataError(f"{option('workers', workers)}: need at least 1 worker process")
     if scheduler is not None and isinstance(scheduler, str):
         scheduler_address(scheduler)  # a bad address is refused before any folder is made
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
-        raise DataError(f"{out}: exists and is not a folder; --out needs a folder for the .tir files")
+        raise DataError(f"{out}: exists and is not a folder; {option('out_dir', cli='out')} needs a folder for the .tir files")
     files = find_data_files(paths, exclude=out)
     design = read_manifest(manifest, files) if manifest is not None else {}
     if allow_mirrored:
@@ -863,7 +863,8 @@ def batch_fit(paths, out_dir: str | os.PathLike, *, workers: int | None = None, 
         for n in ("summary.csv", "index.html"):
             if (out / n).exists():
                 raise OutputExistsError(f"{out / n}: exists and was not written by 'tyrefit batch fit' (no "
-                                        f"{_STATUS_DIR}/ folder); pass --force to replace it, or choose another --out")
+                                        f"{_STATUS_DIR}/ folder); pass {option('force', flag=True)} to replace it, "
+                                        f"or choose another {option('out_dir', cli='out')}")
     t0 = time.perf_counter()
     client, own_client = (None, False)
     if scheduler is not None and (not isinstance(scheduler, str) or scheduler_address(scheduler) is not None):

@@ -51,7 +51,7 @@ import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..errors import DataError
+from ..errors import DataError, option
 from ..io.plausibility import check_mirrored
 from ..io.readers import check_fittable, read_data
 from ..tyres.size import complete_design, complete_mf_design, loaded_radius_law, size_and_rated_load
@@ -135,7 +135,7 @@ def static_input(ds, *, patch=None, rig=None, vertical=None, static_part: str = 
                  notes: list | None = None):
     """Komana et al. Eq. 1 on a static-rig test: the slip-angle data, anchors and design data to fit."""
     if not patch:
-        raise DataError(f"{ds.source}: a static test needs --patch PATCH.csv for Eq. 1 (contact-patch length)")
+        raise DataError(f"{ds.source}: a static test needs {option('patch', 'PATCH.csv')} for Eq. 1 (contact-patch length)")
     patch_ds = read_data(os.fspath(patch), convention="iso", kind="patch")
     cal = RigCalibration.from_json(os.fspath(rig)) if rig else None
     vertical_ds = read_data(os.fspath(vertical), convention="iso", kind="vertical") if vertical else None
