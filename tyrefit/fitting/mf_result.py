@@ -41,6 +41,7 @@ from .._version import __version__
 from ..models import mf61
 from .mf_stages import STAGES
 from .result import FLOOR_RATIO_WARN, noise_floor_of
+from .result_base import TyreFitResult
 from ..errors import FitError
 from ..io.mf_tir import format_mf_tir, write_mf_tir
 from ..io.outputs import write_text
@@ -93,8 +94,8 @@ def _by_record(df: pd.DataFrame, channel: str) -> dict[str, dict]:
 
 
 @dataclass
-class FitResultMF:
-    """A fitted Magic Formula tyre and the statistics of the fit.
+class FitResultMF(TyreFitResult):
+    """A fitted Magic Formula tyre and the statistics of the fit (the MF 5.2 / 6.1 :class:`TyreFitResult`).
 
     Attributes
     ----------
@@ -351,6 +352,27 @@ class FitResultMF:
                                    for k, why in self.not_identifiable.items()},
                 "ranges": self.ranges(), "contract": [str(v) for v in self.contract()],
                 "warnings": list(self.warnings), "notes": list(self.notes)}
+
+    def lmfit_params(self):
+        """The Magic Formula coefficients (P*, Q*, R*, S* and the L* scaling factors; not the design data) as
+        :class:`lmfit.Parameters`: the fitted ones with ``vary=True`` and their standard errors from the stage
+        that fitted them last, the others held (``vary=False``)."""
+        import re
+
+        import lmfit
+
+        se = {}
+        for st in self.stages.values():
+            se.update({k: v for k, v in (st.stderr or {}).items() if k in st.varied})
+        out = lmfit.Parameters()
+        for k, v in self.params.items():
+            coefficient = re.fullmatch(r"[PQRS][A-Z]{1,3}\d+|L(?!ONGVL)[A-Z]+", k)
+            if not coefficient or not isinstance(v, (int, float)) or isinstance(v, bool):
+                continue
+            out.add(k, value=float(v), vary=k in self.fitted)
+            if k in se and se[k] is not None and math.isfinite(se[k]):
+                out[k].stderr = float(se[k])
+        return out
 
     def require_valid(self) -> None:
         """Raise :class:`~tyrefit.errors.FitError` if the tyre breaks the contract or its reader's check."""

@@ -41,6 +41,7 @@ import pandas as pd
 from .._version import __version__
 from ..tyres.pac89 import Pac89Tyre
 from .noise import MAX_POINTS_PER_SWEEP, noise_floor as _nf
+from .result_base import TyreFitResult
 from ..io.facets import (_DISPLAY, _decimals, channel_levels, describe_constant, facet_sweeps, format_load, pages,
                          sweep_conditions)
 from ..io.outputs import check_output, write_text
@@ -67,8 +68,8 @@ _DESIGN = ("unloaded_radius", "width", "fnomin", "lateral_stiffness", "vertical_
 
 
 @dataclass
-class FitResult:
-    """A fitted PAC89 tyre and the statistics of the fit.
+class FitResult(TyreFitResult):
+    """A fitted PAC89 tyre and the statistics of the fit (the PAC89 :class:`TyreFitResult`).
 
     Attributes
     ----------
@@ -250,6 +251,24 @@ class FitResult:
             model = d.part.model(pf.coefficients, d.fz, d.slip, d.camber)
             frames.append(d.df.assign(part=name, model=model, residual=model - d.y))
         return pd.concat(frames, ignore_index=True)
+
+    def to_frame(self) -> pd.DataFrame:
+        """Every fitted point with its part, conditions, the measurement ``y``, ``model`` and ``residual``."""
+        return self.data
+
+    def contract(self) -> list:
+        """What the tyre breaks of PAC89's physical checks over its declared ranges (:meth:`Pac89Tyre.check`:
+        C > 0, D > 0, BCD > 0, E <= 1, bounded friction, finite forces); empty when it keeps them."""
+        return list(self.tyre.check())
+
+    def write_tir(self, path, *, force: bool = False) -> Path:
+        """Write the Adams PAC89 ``.tir`` (the file ``tyrefit fit`` writes) after :meth:`require_valid`."""
+        self.require_valid()
+        return self.tyre.to_tir(path, force=force)
+
+    def lmfit_params(self):
+        """The coefficients of the fitted parts as :class:`lmfit.Parameters` (value, bounds, vary, stderr)."""
+        return self.params
 
     def predict(self, df: pd.DataFrame) -> pd.DataFrame:
         """Model values at the conditions of ``df`` (canonical SI columns).
