@@ -322,12 +322,12 @@ def test_diagnosis_plots(camber_dg):
     assert camber_dg.plot_waterfall().get_ylabel() == "lateral force RMSE [N]"
     assert camber_dg.plot_even_odd().get_yscale() == "log"
     fig = camber_dg.plot_residual_maps()
-    shown = [ax for ax in fig.axes if ax.get_visible()]
-    assert len(shown) == 2 * 6 + 1  # six facets for each of the two models + colour bar
-    # legible at report width (about 1100 px): at most 4 panels across, titles of 10 pt
+    panels = [ax for ax in fig.axes if ax.get_visible() and ax.images]
+    assert len(panels) == 2 * 6  # six facets for each of the two models
+    # legible at report width (about 1100 px): at most 5 panels across, 10 pt titles, at most 13 in wide
     fig.canvas.draw() if hasattr(fig.canvas, "draw") else None
-    assert fig.get_figwidth() <= 13.0 and len({round(ax.get_position().x0, 3) for ax in shown[:-1]}) <= 4
-    assert all(ax.title.get_fontsize() >= 10 for ax in shown[:-1])
+    assert fig.get_figwidth() <= 13.0 and len({round(ax.get_position().x0, 3) for ax in panels}) <= 5
+    assert all(ax.title.get_fontsize() >= 10 for ax in panels if ax.get_title())
     assert camber_dg.plot_signature(camber_dg.accepted[0]).get_xlabel() == "camber [deg]"
     with pytest.raises(KeyError, match="not accepted"):
         camber_dg.plot_signature("speed")

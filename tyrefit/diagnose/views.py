@@ -139,34 +139,49 @@ def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24
     allv = np.concatenate([g.ravel() for row in grids for g in row])
     vmax = float(np.nanpercentile(np.abs(allv), 98)) if np.isfinite(allv).any() else 1.0
     vmax = max(vmax, 1e-9)
-    # facets in a grid a report can show at its width: with pressure and camber, one column per camber
-    # level and one row per pressure level; otherwise up to 4 columns; one such block per step
-    n_cam = len(d.levels["camber"])
-    ncol = min(n_cam if "pressure" in d.levels and n_cam > 1 else len(fc), 4)
-    nrow_b = -(-len(fc) // ncol)
-    nrows = nrow_b * len(sts)
+    # one block per model (start, final), each a grid a report shows at its width: a column per camber level,
+    # a row per pressure level (combinations the record lacks left empty); titles on the edges, not per panel
+    cams = sorted({c for c, _ in fc})
+    prs = sorted({p for _, p in fc}, key=lambda v: -1 if v is None else v)
+    wrap = max(1, min(len(cams), 5))
+    ncol = wrap
+    rows_per_p = -(-len(cams) // wrap)
+    nrow_b = rows_per_p * len(prs)
     if fig is None:
-        fig = Figure(figsize=(min(3.4 * ncol + 1.6, 13.0), 2.5 * nrows + 0.9), layout="constrained")
-    axes = fig.subplots(nrows, ncol, squeeze=False, sharex=True, sharey=True)
+        fig = Figure(figsize=(min(2.5 * ncol + 2.2, 13.0), (2.1 * nrow_b + 0.8) * len(sts)), layout="constrained")
+    blocks = fig.subfigures(len(sts), 1, squeeze=False)[:, 0] if len(sts) > 1 else [fig]
     im = None
     for i, st in enumerate(sts):
         name = "start model" if st is diagnosis.steps[0] else ("final model" if st is diagnosis.steps[-1]
                                                                else f"+ {st.added}")
+        sub = blocks[i]
+        axes = sub.subplots(nrow_b, ncol, squeeze=False, sharex=True, sharey=True)
+        used = np.zeros(axes.shape, bool)
         for j, (c, p) in enumerate(fc):
-            ax = axes[i * nrow_b + j // ncol, j % ncol]
+            k = cams.index(c)
+            r, col = prs.index(p) * rows_per_p + k // wrap, k % wrap
+            ax = axes[r, col]
+            used[r, col] = True
             im = ax.imshow(grids[i][j], aspect="auto", origin="lower", cmap="RdBu_r", vmin=-vmax, vmax=vmax,
                            extent=(edges[0] / _DEG, edges[-1] / _DEG, -0.5, nl - 0.5), interpolation="nearest")
             ax.set_yticks(range(nl), [f"{v / 1e3:.1f}" for v in d.levels["fz"]], fontsize=9)
             ax.tick_params(axis="x", labelsize=9)
-            ax.set_title(f"{name}: {_facet_title(d, c, p)}", fontsize=10)
-            if j % ncol == 0:
-                ax.set_ylabel("Fz [kN]", fontsize=10)
-        for j in range(len(fc), nrow_b * ncol):  # unused cells of the block's last row
-            axes[i * nrow_b + j // ncol, j % ncol].set_visible(False)
-    for ax in axes[-1]:
-        ax.set_xlabel("slip angle [deg]", fontsize=10)
-    cb = fig.colorbar(im, ax=axes, shrink=0.8)
-    cb.set_label("mean residual model - data [N]", fontsize=10)
+            if r % rows_per_p == 0 or rows_per_p > 1:
+                ax.set_title(format_condition("camber", float(d.levels["camber"][c]),
+                                              _decimals("camber", d.levels["camber"])), fontsize=10)
+            if col == 0:
+                lab = "Fz [kN]"
+                if p is not None:
+                    lab = format_condition("pressure", float(d.levels["pressure"][p]),
+                                           _decimals("pressure", d.levels["pressure"])) + "\n" + lab
+                ax.set_ylabel(lab, fontsize=10)
+        for ax in axes[~used]:
+            ax.set_visible(False)
+        for ax in axes[-1]:
+            ax.set_xlabel("slip angle [deg]", fontsize=10)
+        sub.suptitle(name, fontsize=12, fontweight="bold")
+        cb = sub.colorbar(im, ax=axes, shrink=0.8)  # the same scale in every block
+        cb.set_label("mean residual model - data [N]", fontsize=10)
     return fig
 
 
