@@ -1011,6 +1011,32 @@ def _cases_issue25() -> list[Case]:
     add(Case("fit camber-mirrored, --allow-mirrored", "fit",
              ["fit", "{d}/d.csv", "--out", "{d}/t.tir", "--allow-mirrored"], {"d.csv": _camber_negated}, "ok",
              check=_exists("t.tir"), origin="issue 25"))
+    # this session's inputs: the scheduler file, the batch manifest, the road friction
+    sf = ["batch", "fit", "{d}/db", "--out", "{d}/o", "--workers", "1", "--scheduler-file", "{d}/s.json"]
+    for label, content, pat in (("missing", None, r"(?i)scheduler-file.*cannot be read"),
+                                ("not JSON", "{not json", r"(?i)not a Dask scheduler file"),
+                                ("without an address", '{"type": "Scheduler"}', r"(?i)no 'address'"),
+                                ("naming UCX", '{"address": "ucx://127.0.0.1:1"}', r"(?i)UCX"),
+                                ("naming a closed port", '{"address": "tcp://127.0.0.1:1"}', r"(?i)cannot connect")):
+        files = dict(one, **({"s.json": content} if content is not None else {}))
+        add(Case(f"batch fit --scheduler-file {label}", "batch fit", sf, files, "error", pat, timeout=20,
+                 origin="session 9", fast=label == "not JSON"))
+    mb = ["batch", "fit", "{d}/db", "--out", "{d}/o", "--workers", "1", "--manifest", "{d}/m.csv"]
+    for label, text, pat in (("naming no data file", "file,size\nnope.csv,385/65R22.5\n", r"(?i)none of the batch"),
+                             ("load without a unit", "file,rated_load\na.csv,6000\n", r"(?i)unit"),
+                             ("load in metres", "file,rated_load [m]\na.csv,6000\n", r"(?i)not a force"),
+                             ("negative load", "file,rated_load [N]\na.csv,-6000\n", r"(?i)rated.load"),
+                             ("bad size", "file,size\na.csv,banana\n", r"(?i)size"),
+                             ("binary", b"\x00\x01\x02" * 50, r"(?i)manifest"),
+                             ("empty", "", r"(?i)empty")):
+        add(Case(f"batch fit --manifest {label}", "batch fit", mb, dict(one, **{"m.csv": text}), "error", pat,
+                 origin="session 9", fast=label in ("naming no data file", "binary")))
+    add(Case("batch fit --manifest with size and load", "batch fit", mb,
+             dict(one, **{"m.csv": "file,size,rated_load [kN]\na.csv,205/55R16,6.0\n"}), "ok", check=_batch_ok(1),
+             timeout=240, origin="session 9"))
+    for rf in ("0", "nan", "9", "-0.5"):
+        add(Case(f"sim ramp --road-friction {rf}", "sim", ["sim", "ramp", "--road-friction", rf, "--json", "{d}/r.json"],
+                 {}, "error", r"(?i)road friction", origin="session 9", fast=rf == "nan"))
     return C
 
 
