@@ -182,7 +182,7 @@ def test_prepare_errors():
     with pytest.raises(ColumnError, match="missing column.*fy"):
         prepare(case.data.drop(columns="fy"))
     neg = case.data.assign(fz=-case.data["fz"])
-    with pytest.raises(DataError, match="--convention sae"):
+    with pytest.raises(DataError, match="convention=sae"):
         prepare(neg)
     with pytest.raises(DataError, match="rated load"):
         prepare(case.data, rated_load=-5.0)
@@ -251,10 +251,11 @@ def test_a_smooth_knee_is_predicted_better_with_its_width_fitted():
     assert dg.steps[1].rmse_heldout < 1.15 * case.sigma
 
 
-def test_a_refinement_does_not_name_the_family():
+def test_a_knee_must_beat_the_smooth_friction_laws():
     """A third-order friction law can mimic a knee at the rated load: on this AR(1) record of the validation's
-    overload truth it predicts the held-out sweeps better than the fitted knee (179.0 against 174.9 N of gain), but
-    it may only refine a family that won on its own laws, so overload is named."""
+    overload truth it predicts the held-out sweeps better than the fitted knee.  A knee that does not beat the
+    smooth laws of friction in load is not named (issue 24: overload only with a knee); the family that is
+    named is the friction law's, and the knee's reason says why."""
     from tyrefit.effects import EFFECTS
     from tyrefit.synthetic.validation.cases import make_case as make_validation_case
     assert EFFECTS["load_friction_cubic"].refinement and EFFECTS["curvature_load_curved"].refinement
@@ -263,7 +264,8 @@ def test_a_refinement_does_not_name_the_family():
     dg = diagnose(case.data, rated_load=case.rated_load, seed=8, settings=Settings(max_steps=1))
     c = dg.candidates
     assert c["load_friction_cubic"].delta_heldout > c["overload_knee"].delta_heldout  # the mimicry
-    assert dg.accepted == ["overload_knee"]
+    assert [EFFECTS[a].family for a in dg.accepted] == ["load_friction"]
+    assert "no knee" in c["overload_knee"].reason and "overload" not in dg.accepted
 
 
 def test_chained_jacobian_matches_finite_differences():

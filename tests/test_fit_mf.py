@@ -238,7 +238,7 @@ def test_mf52_fit_holds_pressure_terms_and_writes_fittyp_6(tmp_path):
 def test_orientation_error_for_sae_data():
     df = gen.make_sweeps(gen.contract_mf61(), seed=7, cambers_deg=[0.0], pressures=[260e3], slip_angles_deg=[0.0], n_points=31)
     df = df.assign(fy=-df["fy"])
-    with pytest.raises(Exception, match="convention sae"):
+    with pytest.raises(Exception, match="convention=sae"):
         fit_mf(df, tyre_info=INFO, stages=["Fy0"])
 
 

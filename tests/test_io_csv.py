@@ -213,7 +213,7 @@ def test_check_fittable_passes_and_returns_patch(tmp_path):
 
 def test_static_needs_patch_length(tmp_path):
     st = read_data(_static(tmp_path))
-    with pytest.raises(DataError, match=r"needs contact-patch data .*Eq. 1.*--patch"):
+    with pytest.raises(DataError, match=r"needs contact-patch data .*Eq. 1.*patch=PATCH.csv"):
         check_fittable(st)
     with pytest.raises(ColumnError, match=r"without a 'length' column"):
         check_fittable(st, patch=_patch(tmp_path, lengths=False))

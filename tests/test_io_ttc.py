@@ -79,7 +79,7 @@ def test_sae_positive_slip_angle_gives_negative_lateral_force(bundled):
 
 
 def test_ttc_read_as_iso_says_use_sae():
-    with pytest.raises(ValueRangeError, match=r"'FZ \[N\]' is mostly negative.*pass --convention sae"):
+    with pytest.raises(ValueRangeError, match=r"'FZ \[N\]' is mostly negative.*pass convention=sae"):
         read_data(data_path("ttc", "fsae_cornering.dat"))
 
 

@@ -132,7 +132,7 @@ def test_screen_sweeps_finds_a_spike_at_a_sweep_end_and_two_adjacent():
 # ------------------------------------------------------------------------------------------- signs
 def test_sign_flipped_data_is_refused():
     """Before: a flipped channel could be fitted as a reversed tyre (C ~ 3) with R^2 0.99."""
-    with pytest.raises(DataError, match=r"rises with slip angle in 12 of 12 sweeps.*--convention sae"):
+    with pytest.raises(DataError, match=r"rises with slip angle in 12 of 12 sweeps.*convention=sae"):
         fit_pac89(make_case("sign_flip"))
 
 

@@ -340,6 +340,110 @@ GUARDS = (heldout_gain_guard, heldout_noise_guard, levelout_guard)
 MANY_SWEEP_GUARDS = (fold_guard, stability_guard)
 
 
+#: half-width [deg] of the slip range around zero where a sweep's zero-slip force is read
+SHIFT_WINDOW_DEG = 3.0
+
+
+#: a shift is named when the zero-slip force it explains is at least this share of the within-sweep noise floor
+SHIFT_MIN_FLOOR = 0.5
+#: level of the zero-slip shift check: it asks whether the signature of a shift is there at all (the held-out
+#: evidence has already confirmed the effect), so it is looser than the diagnosis' own level
+SHIFT_ALPHA = 0.10
+
+
+def _shift_evidence(d: SweepData, resid: np.ndarray, alpha: float, floor: float) -> str | None:
+    """None when the data show a shift of the curve at zero slip, else why ``offsets`` is not named.
+
+    Ply steer and conicity (the ``offsets`` family) move the whole curve, its zero crossing included; a
+    curvature that differs between the slip sides (``asymmetry``) or a camber-driven shift (``camber``) also
+    make the two sides differ, but leave the force at zero slip where a symmetric model puts it (the
+    former) or make it follow the camber (the latter).  So the current model's residual at zero slip is
+    read per sweep (the intercept of a quartic in slip through the points within :data:`SHIFT_WINDOW_DEG`:
+    even, shape-like terms go to the square and the fourth power, the curve's bend to the odd ones) and
+    the intercepts are regressed on load (a13 + a12 Fz, the offsets' own law); an F test against zero with
+    the sweep-to-sweep scatter of the intercepts as the error.  A shift must be significant at ``alpha``
+    and large enough to matter: its RMS over the sweeps at least :data:`SHIFT_MIN_FLOOR` x the
+    within-sweep noise floor ``floor`` (a side-dependent curvature leaves an intercept bias of a few
+    newtons that many sweeps would make significant).
+    """
+    from scipy import stats as sps
+
+    x = d.inputs
+    win = SHIFT_WINDOW_DEG * np.pi / 180.0
+    icpt, loads, var_in, dof_in = [], [], [], 0
+    for g in np.unique(d.sweep):
+        m = (d.sweep == g) & (np.abs(x.slip_angle) <= win)
+        a = x.slip_angle[m]
+        if m.sum() < 8 or a.min() > -0.3 * win or a.max() < 0.3 * win:
+            continue
+        c, cov = np.polyfit(a / win, resid[m], 4, cov=True)
+        icpt.append(c[-1])
+        var_in.append(cov[-1, -1])
+        dof_in += int(m.sum()) - 5
+        loads.append(float(np.median(x.fz[m])))
+    G = len(icpt)
+    if G < 3:
+        return None  # too few sweeps through zero to read the zero crossing: the held-out evidence decides
+    y = np.asarray(icpt)
+    X = np.c_[np.ones(G), (np.asarray(loads) - np.mean(loads)) / max(np.ptp(loads), 1.0)]
+    k = 2 if np.ptp(loads) > 0 and G >= 4 else 1
+    X = X[:, :k]
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    rss = float(np.sum((y - X @ coef) ** 2))
+    ess = float(np.sum(y * y)) - rss
+    if G - k <= 0 or rss <= 0:
+        return None
+    # the intercepts' error variance: their scatter about the load law (robust to noise correlated along a
+    # sweep, but few degrees of freedom) or, when larger, what the points within each sweep give (many)
+    between, within = rss / (G - k), float(np.mean(var_in))
+    err, dof = (between, G - k) if between >= within else (within, dof_in)
+    F = (ess / k) / err
+    p = float(sps.f.sf(F, k, dof))
+    size = float(np.sqrt(np.mean((X @ coef) ** 2)))
+    if p < alpha and size >= SHIFT_MIN_FLOOR * floor:
+        return None
+    if p < alpha:
+        return (f"a shift at zero slip too small to name: {size:.0f} N RMS over {G} sweeps, below "
+                f"{SHIFT_MIN_FLOOR:g} x the noise floor {floor:.0f} N (F test p = {p:.2g}); a side-dependent curvature "
+                "or a camber-driven shift leaves such a residue")
+    return (f"no shift at zero slip: the residual force at zero slip of {G} sweeps is "
+            f"{np.mean(y):+.0f} N on average (F test against zero, a13 + a12 Fz: p = {p:.2g} >= {alpha:g}); the "
+            "difference between the slip sides is in the curve's shape (asymmetry) or follows the camber, not "
+            "a ply-steer or conicity shift")
+
+
+def _knee_evidence(eng, ev: dict, cur, pool: dict, cache: dict, margin_abs: float, noise) -> str | None:
+    """None when a knee at the rated load predicts the held-out sweeps better than every smooth friction law.
+
+    A grip loss above the rated load (``overload``) must not merely stand in for a friction coefficient that
+    falls smoothly with load: the smooth laws of the ``load_friction`` family (straight, curved, third
+    order in load) are fitted on top of the same model, and the knee is named only when its RMSE on every
+    held-out sweep (the extrapolated end loads, above and below the rating, included) is lower than each
+    of theirs by the practical margin.
+    """
+    def score(e):
+        v = e.get("rmse_heldout_all")
+        return v if v is not None and np.isfinite(v) else e["rmse_heldout"]
+
+    knee = score(ev)
+    best, best_id = np.inf, None
+    for eid, e in EFFECTS.items():
+        # a smooth law already in the model is under the knee's fit too; the others compete with it
+        if e.family != "load_friction" or eid not in pool:
+            continue
+        if eid not in cache:
+            try:
+                cache[eid] = eng.evaluate(pool[eid], cur, margin_abs, noise)[1]
+            except FitError:
+                cache[eid] = None
+        if cache[eid] is not None and score(cache[eid]) < best:
+            best, best_id = score(cache[eid]), eid
+    if best_id is None or knee <= best - margin_abs:
+        return None
+    return (f"no knee: a smooth friction law in load ({best_id}) predicts the held-out sweeps as well "
+            f"({best:.1f} N against the knee's {knee:.1f} N, margin {margin_abs:.1f} N)")
+
+
 def _confirm(ev: dict, margin_abs: float, s: Settings, few_sweeps: bool = False) -> str | None:
     """None when the held-out evidence confirms the effect, else why not (the first guard that fails)."""
     for guard in GUARDS + (() if few_sweeps else MANY_SWEEP_GUARDS):
@@ -435,6 +539,7 @@ def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, sett
         scr = eng.screen(cur.spec, cur.fit, pool)
         screens.append(scr)
         sig = []
+        smooth_cache: dict = {}  # smooth friction laws evaluated this round (the overload check)
         for k, (e, cspec) in enumerate(pool):
             c = cands[e.id]
             pa = float(scr.p_adjusted[k])
@@ -486,6 +591,11 @@ def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, sett
                 c.evidence = ev.get("evidence", "")
                 c.values = {n: v for n, v in st.fit.values.items() if n in cspec.names and n not in cur.spec.names}
                 why = _confirm(ev, margin_abs, s, few_sweeps=eng.G <= s.loso_max_sweeps)
+                if why is None and e.family == "offsets":
+                    why = _shift_evidence(eng.data, cur.fit.resid, SHIFT_ALPHA, floor)
+                if why is None and e.family == "overload":
+                    why = _knee_evidence(eng, ev, cur, {c.id: cs for c, cs in pool}, smooth_cache, margin_abs,
+                                          scr.noise)
                 evaluated[e.id] = (e, st, ev)
                 if why is None:
                     confirmed.append(e.id)
@@ -504,6 +614,16 @@ def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, sett
                 break
         if not confirmed:
             break
+        # a shift and a side-dependent curvature both make the slip sides differ; where the data show a shift at
+        # zero slip (the offsets' own signature, :func:`_shift_evidence`) the shift goes first, and the
+        # asymmetry is re-screened on top of it next round
+        if any(EFFECTS[i].family == "offsets" for i in confirmed) and \
+                any(EFFECTS[i].family == "asymmetry" for i in confirmed):
+            for i in [i for i in confirmed if EFFECTS[i].family == "asymmetry"]:
+                confirmed.remove(i)
+                cands[i].status = "confirmed, not added"
+                cands[i].reason = ("the curve is shifted at zero slip: ply steer and conicity are added first and "
+                                   "the side asymmetry is re-screened on top of them")
         # the family is named by its own laws; a refinement competes only inside a family that won without it
         fam = EFFECTS[max((i for i in confirmed if i in naming),
                           key=lambda i: evaluated[i][2]["delta_heldout"])].family

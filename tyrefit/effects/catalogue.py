@@ -279,6 +279,17 @@ def _apply_curvature_load_curved(coef: dict, v: Mapping, x: ModelInputs) -> None
     coef["a7"] = coef["a7"] + c * _dfz(x) ** 2  # E = a6 Fz + a7 + c dfz^2
 
 
+def _apply_asymmetry_curvature(coef: dict, v: Mapping, x: ModelInputs) -> None:
+    e = v["asym_e"]
+    if np.all(np.asarray(e) == 0.0):
+        return  # neutral: the previous model, bit for bit
+    # the slip the curve sees, x = alpha + Sh (PAC89, degrees), with Sh = a8 gamma + a9 Fz + a10
+    sh = coef["a8"] * np.degrees(x.camber) + coef["a9"] * x.fz * 1e-3 + coef["a10"]
+    f = 1.0 - e * np.sign(np.degrees(x.slip_angle) + sh)  # E (1 - PEY3 sgn(alpha_y)), Pacejka 2012 (4.E24)
+    coef["a6"] = coef["a6"] * f
+    coef["a7"] = coef["a7"] * f
+
+
 def _apply_speed(coef: dict, v: Mapping, x: ModelInputs) -> None:
     _need(x, "speed", "speed_ref")
     _scale_d(coef, relative_factor(x.speed, x.speed_ref, v["speed_mu"]))
@@ -298,6 +309,8 @@ _A5 = Param("a5", 0.0, (-0.2, 0.2), (0.0, 0.02), "1/deg", 0.005,
             "cornering-stiffness loss with camber: BCD (1 - a5 |gamma|)")
 _A6 = Param("a6", 0.0, (-2.0, 2.0), (-0.1, 0.1), "1/kN", 0.02, "curvature change with load: E = a6 Fz + a7")
 _A8 = Param("a8", 0.0, (-2.0, 2.0), (-0.2, 0.2), "deg/deg", 0.01, "horizontal shift with camber: Sh = a8 gamma")
+_ASYM_E = Param("asym_e", 0.0, (-0.9, 0.9), (-0.5, 0.5), "-", 0.05,
+                "curvature differing between slip signs: E (1 - e sgn(alpha + Sh)) (MF 6.1 PEY3)")
 _A9 = Param("a9", 0.0, (-2.0, 2.0), (-0.05, 0.05), "deg/kN", 0.01, "horizontal shift with load: Sh = a9 Fz")
 _A10 = Param("a10", 0.0, (-5.0, 5.0), (-0.5, 0.5), "deg", 0.1, "constant horizontal shift (ply steer / conicity)")
 _A11 = Param("a11", 0.0, (-1000.0, 1000.0), (-40.0, 40.0), "N/(kN deg)", 10.0,
@@ -370,6 +383,25 @@ _CARD_OFFSETS = PhysicsCard(
           "sides or both rolling directions."),
     vehicle="Vehicle pull and steering-wheel offset in straight running; negligible for limit handling.",
     sources=("PAC89 shift terms Sh = a9 Fz + a10, Sv = a12 Fz + a13 (Bakker, Nyborg, Pacejka 1989)",))
+
+_CARD_ASYMMETRY = PhysicsCard(
+    what=("The force curve bends over differently on the two slip sides: its curvature (how sharply it rounds into "
+          "the peak and how much it keeps past it) differs with the sign of the slip angle, while the curve is "
+          "not shifted. An asymmetric carcass or belt construction, an asymmetric tread pattern and the tyre's "
+          "own ply steer acting differently as the contact patch slides make the two sides differ. It is not "
+          "ply steer or conicity: those shift the whole curve, including its zero crossing."),
+    size=("MF 6.1 PEY3 of 0.1-0.8 on published passenger tyres (MFeval's example: 0.78): a few percent of the "
+          "peak force difference between the sides at 3-8 deg, little at zero slip."),
+    test=("Sweeps through the peak on both slip sides (|slip| >= 8 deg each way); repeating the sweep with the "
+          "tyre mounted the other way round tells construction asymmetry (it flips) from a rig asymmetry "
+          "(it does not)."),
+    vehicle="A handling balance that differs between left and right turns near the limit.",
+    sources=("MF 6.1 E_y = (PEY1 + PEY2 dfz)(1 + PEY5 gamma^2 - (PEY3 + PEY4 gamma) sgn(alpha_y)), Pacejka "
+             "(2012) (4.E24)",))
+
+_NOT_PAC89_ASYMMETRY = (
+    "not representable in PAC89: its curvature E = a6 Fz + a7 is the same on both slip sides. MF 6.1 carries "
+    "it as PEY3 (fit --model mf61); in a PAC89 file the curve's two sides are averaged.")
 
 _CARD_PRESSURE = PhysicsCard(
     what=("Inflation pressure stiffens the carcass and shortens and narrows the contact patch: cornering "
@@ -508,6 +540,10 @@ def _effects() -> list[Effect]:
                "sweeps through zero in both slip directions", _both_signs(1), _CARD_OFFSETS, "fy0_vs_fz",
                pac89=("a10", "a13"),
                pac89_note="PAC89 a10, a13: written to the .tir (they flip sign for the other tyre side)."),
+        Effect("asymmetry_curvature", "asymmetry", "curvature that differs between the slip sides", (_ASYM_E,),
+               "sweeps past the peak in both slip directions", _both_signs(1), _CARD_ASYMMETRY,
+               "side_difference_vs_fz", apply=_apply_asymmetry_curvature, pac89_note=_NOT_PAC89_ASYMMETRY,
+               extra={"needs_model": "mf61"}),
         Effect("pressure", "pressure", "inflation pressure on cornering stiffness and grip", (_P_KY, _P_MU),
                ">= 2 inflation pressures", _levels("pressure_levels", "pressure"), _CARD_PRESSURE,
                "stiffness_vs_pressure", apply=_apply_pressure, pac89_note=_NOT_PAC89_PRESSURE,

@@ -96,6 +96,15 @@ def sweep_characteristics(sweep, fz, slip_angle, fy, camber=None, pressure=None,
                 slips.append(abs(a[m][j]))
         row["peak_mu"] = float(np.mean(mus)) if mus else np.nan
         row["slip_at_peak"] = float(np.mean(slips)) if slips else np.nan
+        # side difference: |Fy| on the positive minus the negative slip side at equal |slip| (3-8 deg, around
+        # and past the peak), less the zero-slip force's share (a shift moves both sides by -fy0)
+        grid = np.linspace(3.0, 8.0, 11) * _DEG
+        if a.min() < -grid[-1] and a.max() > grid[-1]:
+            pos = np.interp(grid, a, -ys)
+            neg = np.interp(-grid, a, ys)
+            row["side_difference"] = float(np.median(pos - neg))
+        else:
+            row["side_difference"] = np.nan
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -121,7 +130,8 @@ _Y = {"peak_mu": (1.0, "peak friction coefficient |Fy|/Fz [-]"),
       "stiffness": (_DEG, "cornering stiffness [N/deg]"),
       "fy0": (1.0, "Fy at zero slip angle [N]"),
       "slip_at_peak": (1 / _DEG, "slip angle at the peak [deg]"),
-      "camber_stiffness": (1.0, "camber stiffness -Fy(0)/gamma [N/deg]")}
+      "camber_stiffness": (1.0, "camber stiffness -Fy(0)/gamma [N/deg]"),
+      "side_difference": (1.0, "|Fy(+alpha)| - |Fy(-alpha)| at 3-8 deg [N]")}
 _X = {"fz": (1e-3, "normal load Fz [kN]"), "camber": (1 / _DEG, "camber [deg]"),
       "pressure": (1e-3, "inflation pressure [kPa]"), "speed": (3.6, "speed [km/h]")}
 
@@ -133,6 +143,7 @@ SIGNATURES: dict[str, tuple[str, str]] = {
     "fy0_vs_camber": ("fy0", "camber"),
     "camber_stiffness_vs_fz": ("camber_stiffness", "fz"),
     "fy0_vs_fz": ("fy0", "fz"),
+    "side_difference_vs_fz": ("side_difference", "fz"),
     "stiffness_vs_pressure": ("stiffness", "pressure"),
     "peak_mu_vs_pressure": ("peak_mu", "pressure"),
     "peak_mu_vs_speed": ("peak_mu", "speed"),

@@ -1046,7 +1046,7 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
 #: ISO-W: a positive slip angle gives a negative lateral force, a positive slip ratio a positive Fx
 _EXPECTED_SIGN = {"lateral": -1.0, "longitudinal": 1.0}
 _SIGN_HINT = {"lateral": "in ISO-W (tyrefit's convention) a positive slip angle gives a negative lateral force. "
-                         "If the file uses the SAE convention (FSAE TTC), pass --convention sae",
+                         f"If the file uses the SAE convention (FSAE TTC), pass {option('convention', 'sae')}",
               "longitudinal": "in ISO-W a positive (driving) slip ratio gives a positive longitudinal force; "
                               "check the sign of the slip ratio or Fx channel"}
 

@@ -210,6 +210,8 @@ EFFECT_COEFFICIENTS: dict[str, tuple[str, ...]] = {
     "camber_thrust": ("PKY6", "PKY7", "PVY3", "PVY4"),
     "camber_brush": ("PKY6", "PKY7", "PEY4", "PEY5", "PVY3", "PVY4"),
     "offsets": ("PHY1", "PHY2", "PVY1", "PVY2"),
+    # a curvature that differs between the slip sides: E (1 - PEY3 sgn(alpha_y)) (4.E24)
+    "asymmetry_curvature": ("PEY3",),
     # MF's vertical shift is SVy = Fz (PVY1 + PVY2 dfz) (4.E29): a shift constant in newtons (PAC89's a13,
     # diagnose's offsets_constant) needs the load slope PVY2 as well
     "offsets_constant": ("PHY1", "PVY1", "PVY2"),
@@ -238,7 +240,8 @@ _EFFECT_NOTES = {
 
 #: effect family -> the effect whose MF 6.1 coefficients carry a variant of the family
 _FAMILY_DEFAULT = {"load_friction": "load_friction", "curvature": "curvature_load", "overload": "overload_stiffness",
-                   "camber": "camber", "offsets": "offsets", "pressure": "pressure", "speed": "speed"}
+                   "camber": "camber", "offsets": "offsets", "pressure": "pressure", "speed": "speed",
+                   "asymmetry": "asymmetry_curvature"}
 
 
 def _in_catalogue(eid: str) -> bool:

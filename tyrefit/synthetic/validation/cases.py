@@ -27,7 +27,8 @@ Noise models (``sigma`` = the total standard deviation per point)
 ``offsets``  a random offset per sweep (0.5 sigma, rig drift / zeroing between sweeps) plus
              independent noise (sqrt(0.75) sigma);
 ``ar1``      Gaussian AR(1) noise along each sweep with correlation 0.8 between neighbouring points
-             (0.5 deg apart), stationary sd sigma.
+             (0.5 deg apart), stationary sd sigma;
+``ar1_09``   the same at correlation 0.9 (not in the default plan).
 
 sigma = 40 N: 1 % of the peak force at 4 kN, 0.5-2 % over the load range
 (flat-track lateral-force channels after filtering; the previous session's
@@ -51,6 +52,8 @@ __all__ = ["LAYOUTS", "NOISE_MODELS", "SIGMA", "Layout", "Case", "make_case", "n
 _DEG = np.pi / 180.0
 
 NOISE_MODELS = ("iid", "offsets", "ar1")
+#: further noise models a run may ask for (not in the default plan): AR(1) at 0.9
+EXTRA_NOISE_MODELS = ("ar1_09",)
 #: total noise standard deviation per point [N]
 SIGMA = 40.0
 #: AR(1) correlation between neighbouring points
@@ -105,7 +108,7 @@ def applicable(layout: Layout, effect: str | None) -> bool:
     """
     if effect is None:
         return True
-    if effect == "camber":
+    if effect in ("camber", "camber_shift"):
         return len(layout.cambers_deg) >= 2
     if effect == "pressure":
         return len(layout.pressures) >= 2
@@ -146,14 +149,15 @@ def noise(kind: str, sweep: np.ndarray, sigma: float, rng: np.random.Generator) 
         g = int(sweep.max()) + 1
         w = np.sqrt(1.0 - OFFSET_SHARE**2)
         return rng.normal(0.0, OFFSET_SHARE * sigma, g)[sweep] + rng.normal(0.0, w * sigma, n)
-    if kind == "ar1":
-        e = rng.normal(0.0, sigma * np.sqrt(1.0 - AR_RHO**2), n)
+    if kind in ("ar1", "ar1_09"):
+        rho = AR_RHO if kind == "ar1" else 0.9
+        e = rng.normal(0.0, sigma * np.sqrt(1.0 - rho**2), n)
         start = np.r_[True, sweep[1:] != sweep[:-1]]
         out = np.empty(n)
         for i in range(n):
-            out[i] = rng.normal(0.0, sigma) if start[i] else AR_RHO * out[i - 1] + e[i]
+            out[i] = rng.normal(0.0, sigma) if start[i] else rho * out[i - 1] + e[i]
         return out
-    raise ValueError(f"unknown noise model {kind!r}; known: {', '.join(NOISE_MODELS)}")
+    raise ValueError(f"unknown noise model {kind!r}; known: {', '.join(NOISE_MODELS + EXTRA_NOISE_MODELS)}")
 
 
 @dataclass
@@ -197,7 +201,7 @@ def make_case(layout: str | Layout, noise_model: str = "iid", effect: str | None
     new load jitter and new noise (held-out data for the fitted model; ``repeat=0`` is the case itself).
     """
     lay = LAYOUTS[layout] if isinstance(layout, str) else layout
-    if noise_model not in NOISE_MODELS:
+    if noise_model not in NOISE_MODELS + EXTRA_NOISE_MODELS:
         raise ValueError(f"unknown noise model {noise_model!r}; known: {', '.join(NOISE_MODELS)}")
     rng = np.random.default_rng(_seed(lay.name, noise_model, effect, seed, repeat))
     tyre = TruthTyre.with_effects((effect,) if effect else ())

@@ -78,6 +78,8 @@ _FREE_EFFECT: dict[str, tuple[float, float, float]] = {
     "g_s": (0.1, 0.005, 1.0),
     "kp_k": (0.3, -3.0, 3.0),
     "kp_mu": (0.1, -3.0, 3.0),
+    "s_asym": (0.3, -0.95, 0.95),
+    "k_gs": (0.05, -1.0, 1.0),
 }
 
 #: an effect's law parameters that its size does not name (the tanh law's load scale, the knee's width, ...)

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .cases import LAYOUTS, NOISE_MODELS, SIGMA, applicable, make_case
+from .cases import EXTRA_NOISE_MODELS, LAYOUTS, NOISE_MODELS, SIGMA, applicable, make_case
 from .ceiling import model_scores, truth_form_heldout, truth_form_scores
 from .truth import EFFECT_FAMILY, EFFECTS
 
@@ -194,8 +194,9 @@ def plan_cases(layouts=None, noises=None, families=None, n_null=None, n_effect=N
         nn = nn if n_null is None else n_null
         ne = ne if n_effect is None else n_effect
         for noise in noises or NOISE_MODELS:
-            if noise not in NOISE_MODELS:
-                raise ValueError(f"unknown noise model {noise!r}; known: {', '.join(NOISE_MODELS)}")
+            if noise not in NOISE_MODELS + EXTRA_NOISE_MODELS:
+                raise ValueError(f"unknown noise model {noise!r}; known: "
+                                 f"{', '.join(NOISE_MODELS + EXTRA_NOISE_MODELS)}")
             for eff in [None, *EFFECTS]:
                 name = eff or "null"
                 if families and not ({name, EFFECT_FAMILY.get(eff, "null")} & set(families)):

@@ -73,6 +73,12 @@ apart from are in brackets)
                          F_gamma = -C_g Fz g_s tanh(gamma / g_s) (1 - (F0 / mu Fz)^2),
                          C_g = 1.0 /rad (about 70 N/deg at 4 kN), g_s = 5 deg [a5, a8, a11;
                          the camber brush model]
+``asym_curvature``       the saturation sharpness differs between the slip sides, q (1 + s sgn(phi)), s = 0.5,
+                         each side rescaled to the null's peak: shape only, no shift (side differences of
+                         3-6 % of the force at 3-8 deg) [MF 6.1 PEY3; diagnose family ``asymmetry``, which
+                         must not be named ``offsets``]
+``camber_shift``         a slip offset growing with camber, alpha += k gamma, k = 0.05 (0.2 deg at 4 deg of
+                         camber) [a8 gamma: the camber family, not ``offsets``]
 ``pressure``             K_alpha *= (p / p0)^0.35, mu *= (p / p0)^-0.10, p0 = 220 kPa
                          (stiffness rises and grip falls slightly with inflation; MF 6.1 uses
                          polynomials in dp instead) [PPY1/PPY3-style linear terms]
@@ -117,6 +123,8 @@ EFFECT_FAMILY: dict[str, str] = {
     "offsets": "offsets",
     "camber": "camber",
     "pressure": "pressure",
+    "asym_curvature": "asymmetry",
+    "camber_shift": "camber",
 }
 EFFECTS = tuple(EFFECT_FAMILY)
 
@@ -142,6 +150,8 @@ class TruthTyre:
     c_gamma : camber stiffness per unit load [1/rad]
     g_s : camber saturation angle [rad]
     kp_k, kp_mu : pressure exponents of stiffness and friction [-]
+    s_asym : relative change of the saturation sharpness between the slip sides (``asym_curvature``) [-]
+    k_gs : slip offset per unit camber (``camber_shift``) [rad/rad]
     rated_load : [N]
     """
 
@@ -163,6 +173,8 @@ class TruthTyre:
     g_s: float = 5.0 * _DEG
     kp_k: float = 0.0
     kp_mu: float = 0.0
+    s_asym: float = 0.0
+    k_gs: float = 0.0
     rated_load: float = RATED_LOAD
     effects: tuple[str, ...] = field(default=())
 
@@ -233,12 +245,20 @@ class TruthTyre:
         """
         fz = np.asarray(fz, dtype=float)
         a = np.asarray(slip_angle, dtype=float) + self.alpha_ps  # ply steer: a slip-angle offset
+        if self.k_gs:
+            a = a + self.k_gs * np.asarray(camber, dtype=float)  # a shift that grows with camber
         mu = self.friction(fz, pressure)
         k = self.cornering_stiffness(fz, pressure)
         peak = mu * fz
         phi = k * np.tan(a) / peak  # normalised (theoretical) slip, Pacejka Sec. 3.2.2
         q = self.sharpness(fz)
+        if self.s_asym:
+            # the curve saturates sooner on the positive slip side than on the negative: shape only, the peak
+            # of each side stays mu Fz times the null's (rescaled as for ``curvature``)
+            q = q * (1.0 + self.s_asym * np.sign(phi))
         f0 = -np.sign(phi) * peak * self._shape(np.abs(phi), q)
+        if self.s_asym:
+            f0 = f0 * (self._shape_peak(np.full(1, self.q0))[0] / self._shape_peak(q))
         if self.k_curv:
             # curvature only: the peak stays at the null tyre's, the shape around it changes with load
             f0 = f0 * (self._shape_peak(np.full(1, self.q0))[0] / self._shape_peak(q))
@@ -259,6 +279,8 @@ EFFECT_SIZES: dict[str, dict[str, float]] = {
     "offsets": {"alpha_ps": 0.15 * _DEG, "c_con": -0.012},
     "camber": {"c_gamma": 1.0},
     "pressure": {"kp_k": 0.35, "kp_mu": 0.10},
+    "asym_curvature": {"s_asym": 0.5},
+    "camber_shift": {"k_gs": 0.05},
 }
 
 
