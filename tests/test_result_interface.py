@@ -54,3 +54,22 @@ def test_write_tir_refuses_a_tyre_that_breaks_the_contract(results, tmp_path):
     with pytest.raises(FitError, match="not physical"):
         r.write_tir(tmp_path / "bad.tir")
     assert not (tmp_path / "bad.tir").exists()
+
+
+def test_the_command_line_does_not_import_lmfit(tmp_path):
+    """lmfit is imported when a caller asks for lmfit objects, not by ``tyrefit fit`` (+0.6 s per call)."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from tyrefit.cli import main; "
+            f"rc = main(['fit', {str(tf.datasets.path('truck/tyre_a_dynamic.csv'))!r}, '--out', "
+            f"{str(tmp_path / 't.tir')!r}]); print(rc, 'lmfit' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120).stdout
+    assert out.strip().splitlines()[-1] == "0 False"
+
+
+def test_pac89_lmfit_params_carry_the_correlations(results):
+    p = results["pac89"].lmfit_params()
+    varied = [k for k, v in p.items() if v.vary]
+    assert all(isinstance(p[k].correl, dict) and p[k].correl for k in varied)
+    assert abs(p["a3"].correl["a4"]) <= 1.0

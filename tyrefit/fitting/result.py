@@ -41,6 +41,7 @@ import pandas as pd
 from .._version import __version__
 from ..tyres.pac89 import Pac89Tyre
 from .noise import MAX_POINTS_PER_SWEEP, noise_floor as _nf
+from .core import Parameters
 from .result_base import TyreFitResult
 from ..io.facets import (_DISPLAY, _decimals, channel_levels, describe_constant, facet_sweeps, format_load, pages,
                          sweep_conditions)
@@ -77,9 +78,10 @@ class FitResult(TyreFitResult):
         coefficients, fitted ranges (``fz``, ``slip_angle``, ``camber``,
         ``slip_ratio``), design data, and a header recording the source data
         and fit statistics.
-    params : lmfit.Parameters
+    params : tyrefit.fitting.core.Parameters
         every coefficient of the fitted parts: value, ``vary``, bounds (where
-        a coefficient is bounded directly), ``stderr`` and ``correl``.
+        a coefficient is bounded directly) and ``stderr``, in lmfit's names;
+        :meth:`lmfit_params` gives them as :class:`lmfit.Parameters` with ``correl``.
     coefficients : pandas.DataFrame
         name, part, value, stderr, rel_stderr [%], varied, initial, status.
     correlations : dict of str -> DataFrame
@@ -135,13 +137,11 @@ class FitResult(TyreFitResult):
     @classmethod
     def from_parts(cls, fits: dict, *, info: dict, cost: str, notes: list, tyre_info=None, fixed=None,
                    initial=None, seconds: float = 0.0) -> "FitResult":
-        import lmfit
-
         coeffs: dict[str, float] = {}
         for pf in fits.values():
             coeffs.update(pf.coefficients)
         rows, sweep_rows, stats, not_id, correl, est, init = [], [], {}, {}, {}, {}, {}
-        params = lmfit.Parameters()
+        params = Parameters()  # tyrefit's container; lmfit's on request (lmfit_params), so the CLI never imports it
         constraints = []
         for name, pf in fits.items():
             d = pf.data
@@ -204,10 +204,6 @@ class FitResult(TyreFitResult):
                              "varied": varied, "initial": pf.initial.get(k, float("nan")), "status": status})
                 params.add(k, value=v, vary=varied, min=lo if lo < v else -np.inf, max=hi if hi > v else np.inf)
                 params[k].stderr = se if varied else None
-            if isinstance(pf.correl, pd.DataFrame) and not pf.correl.empty:
-                cm, ci = pf.correl.to_numpy(), list(pf.correl.index)
-                for a, k in enumerate(ci):
-                    params[k].correl = {j: float(cm[a, b]) for b, j in enumerate(ci) if j != k}
         coef_df = pd.DataFrame(rows)
         merged = _merged_levels(fits)
         # the engine's warnings (samples left out, degenerate sweeps) first, then the fit-quality ones
@@ -267,8 +263,15 @@ class FitResult(TyreFitResult):
         return self.tyre.to_tir(path, force=force)
 
     def lmfit_params(self):
-        """The coefficients of the fitted parts as :class:`lmfit.Parameters` (value, bounds, vary, stderr)."""
-        return self.params
+        """The coefficients of the fitted parts as :class:`lmfit.Parameters` (value, bounds, vary, stderr, and the
+        correlations of the varied ones, as lmfit's ``correl``)."""
+        out = self.params.to_lmfit()
+        for cm in self.correlations.values():
+            if isinstance(cm, pd.DataFrame) and not cm.empty:
+                names = list(cm.index)
+                for a, k in enumerate(names):
+                    out[k].correl = {j: float(cm.iat[a, b]) for b, j in enumerate(names) if j != k}
+        return out
 
     def predict(self, df: pd.DataFrame) -> pd.DataFrame:
         """Model values at the conditions of ``df`` (canonical SI columns).
