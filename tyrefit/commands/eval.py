@@ -33,10 +33,7 @@ from .. import nomenclature as nm
 from ..errors import ColumnError, DataError
 from ..io.outputs import check_output
 
-try:  # fast shortest round-trip float text for the output CSV (optional: repr does the same, slower)
-    import orjson as _orjson
-except ImportError:  # pragma: no cover - depends on the environment
-    _orjson = None
+import orjson as _orjson  # fast shortest round-trip float text for the output CSV (Ryu, as repr)
 
 __all__ = ["run", "read_points", "evaluate_points", "point_notes", "write_forces", "csv_text", "CHUNK"]
 
@@ -211,7 +208,7 @@ def csv_text(df: pd.DataFrame) -> str:
             return df.to_csv(index=False, lineterminator="\n")
         if v.dtype.kind == "f":
             v = v.astype(np.float64, copy=False)
-            if _orjson is not None and not np.isinf(v).any():  # orjson writes inf and NaN both as null
+            if not np.isinf(v).any():  # orjson writes inf and NaN both as null
                 items = _orjson.dumps(v, option=_orjson.OPT_SERIALIZE_NUMPY).decode()[1:-1].split(",")
                 items = ["" if x == "null" else x for x in items]
             else:
