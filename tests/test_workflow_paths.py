@@ -106,3 +106,14 @@ def test_bad_manifest_is_one_line(tmp_path, text, match):
     with pytest.raises(DataError, match=match) as e:
         read_manifest(man, [src])
     assert "\n" not in str(e.value)
+
+
+def test_a_relative_path_gives_the_same_file(tmp_path, monkeypatch):
+    """``tyrefit fit db/a.csv`` from the data's parent and a batch of the folder write the same bytes."""
+    db = tmp_path / "db"
+    db.mkdir()
+    shutil.copy(DATA / "truck/tyre_a_dynamic.csv", db / "a.csv")
+    monkeypatch.chdir(tmp_path)
+    assert main(["fit", "db/a.csv", "--out", "cli.tir"]) == 0
+    assert batch_fit("db", tmp_path / "batch", workers=1, progress=False).n_ok == 1
+    assert (tmp_path / "cli.tir").read_bytes() == (tmp_path / "batch" / "a.tir").read_bytes()

@@ -830,6 +830,8 @@ def _make_tyre(coeffs, fits, info, cost, stats, not_id, tyre_info, warns=()) -> 
         d = fits["longitudinal"].data
         ranges["slip_ratio"] = (float(d.slip.min()), float(d.slip.max()))
     src = info.get("source") or "a data frame"
+    if os.path.isfile(src):  # the same file named the same way, however the command or the batch was given it
+        src = os.path.abspath(src)
     header = [f"PAC89 tyre fitted by tyrefit {__version__} (tyrefit.fitting.fit_pac89, cost "
               f"{ {'l1': 'l1: Komana et al. Eq. 5', 'l2': 'l2: least squares'}.get(cost, cost)} on mu = F/Fz)",
               f"source data: {src}" + (f" ({info['kind']})" if info.get("kind") else "")]
