@@ -4,6 +4,10 @@ Usage (from the repository root; minutes on one core)::
 
     nice python -m benchmarks.mutation --sample 40 --seed 15 [--root DIR] [--named] [--json OUT]
 
+``--sample`` is the total: round(sample / number of target files) mutants per file (at least 1).
+Issue 25's run is ``--sample 216 --seed 15``: 12 mutants in each of the 18 modules of
+:data:`TARGETS`, about 40 minutes on one core.
+
 How it works
 ------------
 The repository (``tyrefit/``, ``tests/``, ``data/``, ``pyproject.toml``) is
@@ -64,6 +68,21 @@ TARGETS = {
     "tyrefit/io/tir.py": ["tests/test_tir.py", "tests/test_mutations.py"],
     "tyrefit/io/readers.py": ["tests/test_io_csv.py", "tests/test_io_errors.py"],
     "tyrefit/io/segment.py": ["tests/test_io_csv.py", "tests/test_io_ttc.py", "tests/test_inspect.py"],
+    # issue 25's modules (the quick files that import each, fastest first: -x stops at the first failure)
+    "tyrefit/fitting/core.py": ["tests/test_fitting_core.py", "tests/test_mutants_issue25.py", "tests/test_fitting.py"],
+    "tyrefit/fitting/mf.py": ["tests/test_mutants_issue25.py", "tests/test_fit_mf_speed.py", "tests/test_fit_mf.py"],
+    "tyrefit/sim/allocator.py": ["tests/test_sim_allocator.py", "tests/test_mutants_issue25.py"],
+    "tyrefit/io/pac89_tir.py": ["tests/test_pac89_tir_units.py", "tests/test_tir.py", "tests/test_fuzz_tyre_files.py"],
+    "tyrefit/rig/patch.py": ["tests/test_rig_patch.py", "tests/test_rig_vertical.py", "tests/test_mutants_issue25.py"],
+    "tyrefit/models/mf61.py": ["tests/test_mf61_model.py", "tests/test_mf_parts.py", "tests/test_mf52_61keys.py",
+                               "tests/test_mf_tir_write.py", "tests/test_mutants_issue25.py",
+                               "tests/test_mf_use_mode.py"],
+    "tyrefit/diagnose/engine.py": ["tests/test_mutants_issue25.py", "tests/test_diagnose.py"],
+    "tyrefit/diagnose/stats.py": ["tests/test_mutants_issue25.py", "tests/test_diagnose.py"],
+    "tyrefit/io/ttc.py": ["tests/test_io_ttc_lines.py", "tests/test_io_ttc.py", "tests/test_ttc_field.py"],
+    "tyrefit/io/outputs.py": ["tests/test_outputs.py", "tests/test_outputs_folder_names.py",
+                              "tests/test_outputs_names.py"],
+    "tyrefit/rig/conversion.py": ["tests/test_rig_conversion.py", "tests/test_mutants_issue25.py"],
 }
 
 #: the mutations issue 15 found surviving: (name, file, old text, new text, tests)
