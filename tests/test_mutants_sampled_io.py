@@ -1,0 +1,180 @@
+"""Readers and writers: tests for the sampled mutants that survived the quick suite (issue 25's mutation run).
+
+``nice python -m benchmarks.mutation --sample 216 --seed 15`` (12 mutants per module) left these
+mutants alive; each test states documented behaviour of the file formats, not the mutated text.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tyrefit.io.ttc import parse_ttc
+
+ROOT = Path(__file__).resolve().parents[1]
+DAT = ROOT / "data" / "ttc" / "fsae_cornering.dat"
+
+
+# ------------------------------------------------------------------------------ FSAE TTC .dat (tyrefit/io/ttc.py)
+@pytest.fixture(scope="module")
+def ttc_lines():
+    return DAT.read_text().splitlines()[:300]
+
+
+def _parse(tmp_path, lines, name="t.dat"):
+    p = tmp_path / name
+    text = "\n".join(lines) + "\n"
+    p.write_text(text)
+    return parse_ttc(p, text)
+
+
+def _same_table(a, b):
+    assert list(a.values) == list(b.values)
+    assert a.units == b.units
+    for k in a.values:
+        np.testing.assert_array_equal(a.values[k], b.values[k])
+
+
+def test_ttc_whitespace_separated_file_reads_like_the_tab_separated_one(tmp_path, ttc_lines):
+    # the docstring: tab-separated, or (no tab on the names line) whitespace-separated; units from line 3
+    tabs = _parse(tmp_path, ttc_lines)
+    spaces = _parse(tmp_path, [s.replace("\t", "  ") for s in ttc_lines], "s.dat")
+    _same_table(tabs, spaces)
+    assert spaces.units["speed"] == "kph" and spaces.units["pressure"] == "kPa"
+
+
+def test_ttc_unit_with_a_space_stays_in_its_column(tmp_path, ttc_lines):
+    # "deg F" is one of the units kept as written (module docstring); the info line has no tab
+    lines = list(ttc_lines)
+    assert "\t" not in lines[0]
+    lines[2] = lines[2].replace("degC", "deg F")
+    t = _parse(tmp_path, lines)
+    assert t.units["tstc"] == "deg F"
+    assert t.headers["tstc"] == "TSTC [deg F]"
+    assert t.units["slip_ratio"] == "-" and t.units["mz"] == "N*m"
+
+
+def test_ttc_trailing_tabs_on_the_header_lines_are_not_channels(tmp_path, ttc_lines):
+    lines = [s + "\t" if i in (1, 2) else s for i, s in enumerate(ttc_lines)]
+    _same_table(_parse(tmp_path, ttc_lines), _parse(tmp_path, lines, "trailing.dat"))
+
+
+def test_ttc_units_line_shorter_than_the_names_line_leaves_the_last_channels_without_unit(tmp_path, ttc_lines):
+    lines = list(ttc_lines)
+    lines[2] = "\t".join(lines[2].split("\t")[:-1])  # no unit for TSTC
+    t = _parse(tmp_path, lines)
+    assert t.headers["tstc"] == "TSTC"
+    np.testing.assert_array_equal(t.values["tstc"], _parse(tmp_path, ttc_lines, "full.dat").values["tstc"])
+
+
+# ------------------------------------------------------------------------------ output names (tyrefit/io/outputs.py)
+@pytest.mark.parametrize("char", ["\u00e9", "\u20ac", "\U0001f697"])  # 2-, 3- and 4-byte UTF-8
+@pytest.mark.parametrize("extra", [0, 1, 2, 3, 12])
+def test_a_side_file_name_is_cut_on_a_whole_character_to_fit_name_max(tmp_path, char, extra):
+    from tyrefit.io.outputs import _name_max, side_name
+
+    name = char * 300
+    out = side_name(name, tmp_path, prefix=".", suffix=".tmp", extra=extra)
+    room = _name_max(tmp_path) - len(".") - len(".tmp") - extra
+    k = room // len(char.encode())  # the most whole characters that fit
+    # whole characters only (no cut UTF-8 sequence), and not many fewer than fit (today's cut drops one
+    # whole character more when the cut falls on a character boundary; harmless, the name still fits)
+    assert out in ("." + char * k + ".tmp", "." + char * (k - 1) + ".tmp")
+    assert len(out.encode("utf-8")) + extra <= _name_max(tmp_path)
+
+
+# ------------------------------------------------------------------------------ PAC89 .tir export (tyrefit/io/pac89_tir.py)
+@pytest.mark.parametrize("absent", ["lateral", "longitudinal", "aligning"])
+def test_a_part_without_a_model_is_exported_as_a_block_that_gives_zero_force_without_0_over_0(absent):
+    # NEUTRAL_BLOCKS' contract: finite in the PAC89 equations (C = 1, D = Fz, no division by zero),
+    # zero slip stiffness, so the part gives no force; never B = 0/0
+    from tyrefit.io.pac89_tir import coefficients_for_export
+    from tyrefit.io.tir import read_tir
+    from tyrefit.models import pac89
+
+    tyre = read_tir(ROOT / "data" / "sim" / "soft_rear.tir")
+    names = {"lateral": pac89.LATERAL, "longitudinal": pac89.LONGITUDINAL, "aligning": pac89.ALIGNING}[absent]
+    tyre.coefficients.update({k: 0.0 for k in names})
+    c, parts = coefficients_for_export(tyre)
+    assert absent in parts
+    fz = np.array([500.0, 2000.0, 4000.0, 8000.0])
+    slip = np.array([-0.2, -0.05, 0.0, 0.05])
+    with np.errstate(divide="raise", invalid="raise"):
+        out = {"lateral": lambda: pac89.lateral_force(c, fz, slip, 0.02),
+               "longitudinal": lambda: pac89.longitudinal_force(c, fz, slip),
+               "aligning": lambda: pac89.aligning_moment(c, fz, slip, 0.02)}[absent]()
+    np.testing.assert_array_equal(out, 0.0)
+
+
+# ------------------------------------------------------------------------------ Magic Formula .tir (tyrefit/io/tir.py)
+MF61_TIR = ROOT / "tests" / "data" / "mfeval_MagicFormula61_Paramerters.tir"
+
+
+def test_mf_file_units_convert_compound_quantities_to_si(tmp_path):
+    # [UNITS] LENGTH 'cm', FORCE 'kN', TIME 'ms': a speed is cm/ms (x 10), a stiffness kN/cm (x 1e5),
+    # a damping kN ms/cm (x 100), whatever the numbers were meant to be
+    import re
+
+    from tyrefit.io.tir import read_tyre
+
+    text = MF61_TIR.read_text(encoding="latin-1")
+    for kind, old, new in (("LENGTH", "meter", "cm"), ("FORCE", "newton", "kN"), ("TIME", "second", "ms")):
+        text, n = re.subn(rf"(?m)^({kind}\s*=\s*)'{old}'", rf"\1'{new}'", text)
+        assert n == 1
+    f = tmp_path / "cm_kN_ms.tir"
+    f.write_text(text, encoding="latin-1")
+    si, other = read_tyre(MF61_TIR).params, read_tyre(f).params
+    for key, factor in (("LONGVL", 10.0), ("VXLOW", 10.0), ("VERTICAL_STIFFNESS", 1e5), ("VERTICAL_DAMPING", 100.0),
+                        ("UNLOADED_RADIUS", 0.01), ("FNOMIN", 1e3)):
+        assert other[key] == pytest.approx(si[key] * factor, rel=1e-12), key
+
+
+def test_mf_file_keeps_its_tyre_side():
+    from tyrefit.io.tir import read_tyre
+
+    assert read_tyre(MF61_TIR).tyreside == "RIGHT"      # TYRESIDE = 'RIGHT'
+    assert read_tyre(ROOT / "tests" / "data" / "mf61_small.tir").tyreside == "LEFT"
+
+
+def test_mf_file_without_tyre_side_is_left(tmp_path):
+    import re
+
+    from tyrefit.io.tir import read_tyre
+
+    f = tmp_path / "noside.tir"
+    f.write_text(re.sub(r"(?m)^TYRESIDE.*\n", "", MF61_TIR.read_text(encoding="latin-1")), encoding="latin-1")
+    assert read_tyre(f).tyreside == "LEFT"
+
+
+def test_a_tir_of_an_unknown_format_is_refused_naming_what_it_declares(tmp_path):
+    import re
+
+    from tyrefit.errors import FormatError
+    from tyrefit.io.tir import read_tyre
+
+    text = re.sub(r"(?m)^FITTYP.*\n", "", MF61_TIR.read_text(encoding="latin-1"))
+    text = re.sub(r"(?m)^PROPERTY_FILE_FORMAT.*$", "PROPERTY_FILE_FORMAT = 'SWIFT_99'", text)
+    f = tmp_path / "swift.tir"
+    f.write_text(text, encoding="latin-1")
+    with pytest.raises(FormatError, match="FITTYP is SWIFT_99"):
+        read_tyre(f)
+
+
+def test_a_tir_without_model_whose_stray_declaration_contradicts_its_coefficients_is_refused(tmp_path):
+    # no [MODEL]: PROPERTY_FILE_FORMAT = 'PAC89' in another section, but Magic Formula 5.2 coefficients;
+    # the file is refused (the family cannot be told), not read as either
+    from tyrefit.errors import FormatError
+    from tyrefit.io.tir import read_tyre
+
+    out, skip = [], False
+    for line in (ROOT / "tests" / "data" / "ref_HMMWV_Pac02Tire.tir").read_text(encoding="latin-1").splitlines(True):
+        if line.strip().startswith("["):
+            skip = line.strip().upper().startswith("[MODEL")
+        if not skip:
+            out.append(line)
+    f = tmp_path / "contradicts.tir"
+    f.write_text("".join(out) + "[VENDOR]\nPROPERTY_FILE_FORMAT = 'PAC89'\n", encoding="latin-1")
+    with pytest.raises(FormatError, match=r"no \[MODEL\].*PAC89"):
+        read_tyre(f)
