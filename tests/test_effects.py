@@ -240,7 +240,7 @@ def test_parse_effects():
 
 def test_testability_rules():
     deg = DEG
-    rich = DataSummary(fz_levels=(2e3, 4e3, 6e3, 8e3), camber_levels=(-3 * deg, 0.0, 3 * deg),
+    rich = DataSummary(fz_levels=(2e3, 4e3, 6e3, 7e3, 8e3), camber_levels=(-3 * deg, 0.0, 3 * deg),
                        pressure_levels=(2e5, 2.4e5), speed_levels=(16.7,), slip_min=-12 * deg, slip_max=12 * deg,
                        rated_load=6500.0)
     ok = {e: EFFECTS[e].why_not_testable(rich) for e in EFFECTS}
@@ -258,6 +258,8 @@ def test_testability_rules():
     assert "pressure" in why["pressure"]
     no_over = DataSummary(fz_levels=(2e3, 4e3, 6e3), slip_min=-12 * deg, slip_max=12 * deg, rated_load=7000.0)
     assert "above the rated load" in EFFECTS["overload"].why_not_testable(no_over)
+    one_over = DataSummary(fz_levels=(2e3, 4e3, 6e3, 8e3), slip_min=-12 * deg, slip_max=12 * deg, rated_load=6500.0)
+    assert "2 load levels above the rated load" in EFFECTS["overload"].why_not_testable(one_over)
 
 
 def test_sweep_characteristics_recover_model_values():

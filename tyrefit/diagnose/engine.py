@@ -412,36 +412,41 @@ def _shift_evidence(d: SweepData, resid: np.ndarray, alpha: float, floor: float)
             "a ply-steer or conicity shift")
 
 
-def _knee_evidence(eng, ev: dict, cur, pool: dict, cache: dict, margin_abs: float, noise) -> str | None:
-    """None when a knee at the rated load predicts the held-out sweeps better than every smooth friction law.
+def _knee_evidence(eng, st, cur, pool: dict, cache: dict, margin_abs: float, noise) -> str | None:
+    """None when a knee at the rated load predicts the held-out levels better than every smooth friction law.
 
     A grip loss above the rated load (``overload``) must not merely stand in for a friction coefficient that
-    falls smoothly with load: the smooth laws of the ``load_friction`` family (straight, curved, third
-    order in load) are fitted on top of the same model, and the knee is named only when its RMSE on every
-    held-out sweep (the extrapolated end loads, above and below the rating, included) is lower than each
-    of theirs by the practical margin.
+    falls smoothly with load: the smooth laws of the ``load_friction`` family (straight, curved, third order
+    in load) still open are fitted on top of the same model, and the knee is named only when the held-out
+    RMSE of the sweeps above the rating (whole sweeps held out, the extrapolated end load included) is lower
+    than each smooth law's by the practical margin, and below the rating not higher by more than it.
     """
-    def score(e):
-        v = e.get("rmse_heldout_all")
-        return v if v is not None and np.isfinite(v) else e["rmse_heldout"]
+    d = eng.data
+    rated = d.inputs.rated_load
+    above = d.inputs.fz > 1.02 * rated
 
-    knee = score(ev)
-    best, best_id = np.inf, None
+    def rms(step, m):
+        return float(np.sqrt(np.mean(step.oof[m] ** 2))) if m.any() else float("nan")
+
+    k_above, k_below = rms(st, above), rms(st, ~above)
     for eid, e in EFFECTS.items():
-        # a smooth law already in the model is under the knee's fit too; the others compete with it
+        # a smooth law already in the model is under the knee's fit too; the ones still open compete with it
         if e.family != "load_friction" or eid not in pool:
             continue
         if eid not in cache:
             try:
-                cache[eid] = eng.evaluate(pool[eid], cur, margin_abs, noise)[1]
+                cache[eid] = eng.evaluate(pool[eid], cur, margin_abs, noise)[0]
             except FitError:
                 cache[eid] = None
-        if cache[eid] is not None and score(cache[eid]) < best:
-            best, best_id = score(cache[eid]), eid
-    if best_id is None or knee <= best - margin_abs:
-        return None
-    return (f"no knee: a smooth friction law in load ({best_id}) predicts the held-out sweeps as well "
-            f"({best:.1f} N against the knee's {knee:.1f} N, margin {margin_abs:.1f} N)")
+        sm = cache[eid]
+        if sm is None:
+            continue
+        s_above, s_below = rms(sm, above), rms(sm, ~above)
+        if not (k_above <= s_above - margin_abs and k_below <= s_below + margin_abs):
+            return (f"no knee: a smooth friction law in load ({eid}) predicts the held-out sweeps as well (above "
+                    f"the rated load {s_above:.1f} N against the knee's {k_above:.1f} N, below it {s_below:.1f} "
+                    f"against {k_below:.1f} N; margin {margin_abs:.1f} N)")
+    return None
 
 
 def _confirm(ev: dict, margin_abs: float, s: Settings, few_sweeps: bool = False) -> str | None:
@@ -594,8 +599,8 @@ def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, sett
                 if why is None and e.family == "offsets":
                     why = _shift_evidence(eng.data, cur.fit.resid, SHIFT_ALPHA, floor)
                 if why is None and e.family == "overload":
-                    why = _knee_evidence(eng, ev, cur, {c.id: cs for c, cs in pool}, smooth_cache, margin_abs,
-                                          scr.noise)
+                    why = _knee_evidence(eng, st, cur, {c.id: cs for c, cs in pool}, smooth_cache, margin_abs,
+                                         scr.noise)
                 evaluated[e.id] = (e, st, ev)
                 if why is None:
                     confirmed.append(e.id)

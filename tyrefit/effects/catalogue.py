@@ -122,6 +122,11 @@ def _overload(s: DataSummary) -> str | None:
     if not above:
         return (f"needs loads above the rated load {s.rated_load:.0f} N "
                 f"(highest load level {max(s.fz_levels):.0f} N)")
+    if len(above) < 2:
+        # a knee is named only when it predicts held-out levels above the rating better than the smooth laws;
+        # with one level above, holding it out leaves nothing above the rating to fit the knee to
+        return (f"needs >= 2 load levels above the rated load {s.rated_load:.0f} N (found one, "
+                f"{above[0]:.0f} N): with one, a knee cannot be held out and checked against a smooth friction law")
     if len(below) < 2:
         return f"needs >= 2 load levels at or below the rated load {s.rated_load:.0f} N (found {len(below)})"
     if s.slip_extent < 5 * _DEG:
