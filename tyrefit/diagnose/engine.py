@@ -429,6 +429,12 @@ def _knee_evidence(eng, st, cur, pool: dict, cache: dict, margin_abs: float, noi
         return float(np.sqrt(np.mean(step.oof[m] ** 2))) if m.any() else float("nan")
 
     k_above, k_below = rms(st, above), rms(st, ~above)
+    in_model = [m.id for m in cur.spec.effects if m.family == "load_friction"]
+    richer = [eid for eid, e in EFFECTS.items() if e.family == "load_friction" and eid in pool]
+    if in_model and not richer:
+        return (f"no knee told apart: {in_model[0]} is in the model and no richer smooth law of friction in load is "
+                "testable with these loads (a third-order law needs >= 6), so a knee on top of it cannot be told "
+                "from a smooth law's further curvature")
     for eid, e in EFFECTS.items():
         # a smooth law already in the model is under the knee's fit too; the ones still open compete with it
         if e.family != "load_friction" or eid not in pool:
