@@ -312,3 +312,8 @@ def test_lmuv_lowers_lateral_friction_as_pacejkas_slip_speed_law():
         scaled = [float(mf61.fy0({**p, "LMUV": 0.0, "LMUY": p.get("LMUY", 1.0) / (1 + 0.3 * s / v0)}, 4000.0, a,
                                  speed=v)) for a, s in zip(alpha, vs)]
         assert_allclose(with_v, scaled, rtol=1e-9)
+
+
+def test_a_parameter_made_without_a_value_starts_where_parameters_add_starts_it():
+    p = Parameters()
+    assert Parameter("x").value == p.add("x").value == 0.0

@@ -85,7 +85,7 @@ def test_a_side_file_name_is_cut_on_a_whole_character_to_fit_name_max(tmp_path, 
     assert len(out.encode("utf-8")) + extra <= _name_max(tmp_path)
 
 
-# ------------------------------------------------------------------------------ PAC89 .tir export (tyrefit/io/pac89_tir.py)
+# ------------------------------------------------------------------------ PAC89 .tir export (tyrefit/io/pac89_tir.py)
 @pytest.mark.parametrize("absent", ["lateral", "longitudinal", "aligning"])
 def test_a_part_without_a_model_is_exported_as_a_block_that_gives_zero_force_without_0_over_0(absent):
     # NEUTRAL_BLOCKS' contract: finite in the PAC89 equations (C = 1, D = Fz, no division by zero),
@@ -178,3 +178,104 @@ def test_a_tir_without_model_whose_stray_declaration_contradicts_its_coefficient
     f.write_text("".join(out) + "[VENDOR]\nPROPERTY_FILE_FORMAT = 'PAC89'\n", encoding="latin-1")
     with pytest.raises(FormatError, match=r"no \[MODEL\].*PAC89"):
         read_tyre(f)
+
+
+# ---------------------------------------------------------------------- record segmentation (tyrefit/io/segment.py)
+def _asymmetric_record(cycles=4):
+    """Slip-angle cycles 0 -> +10 deg (150 samples) -> -10 deg (100) -> 0 (50) at 1000 N, 83 kPa, 40 km/h."""
+    import pandas as pd
+
+    one = np.r_[np.linspace(0.0, 10.0, 150, endpoint=False), np.linspace(10.0, -10.0, 100, endpoint=False),
+                np.linspace(-10.0, 0.0, 50, endpoint=False)]
+    deg = np.r_[np.zeros(40), np.tile(one, cycles), np.zeros(40)]
+    n = deg.size
+    return pd.DataFrame({"time": 0.01 * np.arange(n), "slip_angle": np.radians(deg), "fz": 1000.0,
+                         "pressure": 83e3, "speed": 40.0 / 3.6}, index=np.arange(4, 4 + n))
+
+
+def test_a_record_is_cut_where_the_slip_crosses_the_middle_of_its_range():
+    # segment module docstring, step 5: pairs of extremes, the cut where the slip crosses the middle of its range
+    from tyrefit.io.segment import segment_record
+
+    out, meta = segment_record(_asymmetric_record(), "slip_angle")
+    assert meta["n_sweeps"] >= 3
+    step = np.radians(20.0 / 100)                        # the largest change between samples
+    for r in range(1, meta["n_sweeps"]):
+        first = out.loc[out["run"] == r, "slip_angle"].iloc[0]
+        assert abs(first) <= step, (r, np.degrees(first))
+
+
+def test_segmentation_reports_each_sweeps_samples_and_the_levels_in_their_units():
+    from tyrefit.io.segment import segment_record
+
+    out, meta = segment_record(_asymmetric_record(), "slip_angle")
+    counts = out.groupby("run").size()
+    assert [s["n"] for s in meta["sweeps"]] == counts.tolist()
+    assert meta["levels"]["pressure"] == pytest.approx([83.0], rel=1e-6)      # kPa
+    assert meta["levels"]["speed"] == pytest.approx([40.0], rel=1e-6)         # km/h
+    assert meta["levels"]["fz"] == pytest.approx([1000.0], rel=1e-6)          # N
+
+
+# ------------------------------------------------------------------------------ readers (tyrefit/io/readers.py)
+def _sweeps_dataset(pressures_kpa, loads=(3000.0, 5000.0)):
+    import pandas as pd
+
+    from tyrefit.io.readers import Dataset
+
+    a = np.radians(np.linspace(-10.0, 10.0, 41))
+    rows, run = [], 0
+    for p in pressures_kpa:
+        for fz in loads:
+            rows.append(pd.DataFrame({"run": run, "fz": fz, "slip_angle": a, "pressure": p * 1e3,
+                                      "fy": -fz * np.sin(1.3 * np.arctan(10.0 * a))}))
+            run += 1
+    return Dataset(pd.concat(rows, ignore_index=True), "slip_angle", "test")
+
+
+def test_pressure_levels_one_psi_apart_are_two_conditions():
+    # condition_levels: run means closer than 5 kPa are one pressure; 1 psi (6.9 kPa) apart are two
+    from tyrefit.io.readers import condition_levels
+
+    lv = condition_levels(_sweeps_dataset([200.0, 206.9]))
+    assert lv["pressure"] == pytest.approx([200e3, 206.9e3])
+    assert len(condition_levels(_sweeps_dataset([200.0, 203.0]))["pressure"]) == 1
+
+
+def test_the_lateral_slope_of_sweeps_that_do_not_sweep_is_none():
+    # lateral_slope: None when the data have no slip to regress on (every sweep at one slip angle)
+    from tyrefit.io.readers import lateral_slope
+
+    ds = _sweeps_dataset([200.0])
+    ds.df["slip_angle"] = np.radians(1.0)
+    assert lateral_slope(ds) is None
+    assert lateral_slope(_sweeps_dataset([200.0])) < 0          # ISO-W: Fy falls with alpha
+
+
+def test_contact_patch_data_at_one_load_with_a_few_newtons_of_scatter_are_refused():
+    # require_patch: L(Fz) needs at least 2 loads; a load cell's scatter around one load is one load
+    import pandas as pd
+
+    from tyrefit.errors import DataError
+    from tyrefit.io.readers import Dataset, require_patch
+
+    static = Dataset(pd.DataFrame({"run": 0, "lateral_displacement": np.linspace(0, 0.05, 30),
+                                   "fy": np.linspace(0, 9e3, 30), "fz": 4e4}), "static", "static test")
+    jitter = np.array([-3.0, 1.0, 4.0, -2.0, 0.0, 2.0])
+    patch = Dataset(pd.DataFrame({"fz": 4e4 + jitter, "length": 0.25 + 1e-4 * jitter}), "patch", "patch test")
+    with pytest.raises(DataError, match="at 1 load only"):
+        require_patch(static, patch)
+    two = Dataset(pd.DataFrame({"fz": np.r_[4e4 + jitter, 6e4 + jitter], "length": 0.25}), "patch", "patch test")
+    assert require_patch(static, two) is two
+
+
+def test_a_clean_ttc_file_is_parsed_in_one_vectorised_pass(tmp_path, ttc_lines, monkeypatch):
+    # tyrefit.io.table: the per-cell parser is the fallback for files pandas cannot read as numbers (it names
+    # the bad line); a clean record must not take it (it is several times slower on 10^5-row records)
+    import tyrefit.io.ttc as ttc
+
+    def cell_by_cell(*a, **k):
+        raise AssertionError("per-cell fallback used on a clean numeric file")
+
+    monkeypatch.setattr(ttc, "parse_cells", cell_by_cell)
+    t = _parse(tmp_path, ttc_lines)
+    assert len(t.values["fy"]) == len(ttc_lines) - 3

@@ -122,6 +122,11 @@ def test_ten_static_samples_inside_the_dynamic_range_are_enough_to_calibrate():
     sub = dataclasses.replace(sa, df=sa.df.loc[ten.union(sa.df.index[sa.df["part"] != "rising"])])
     cal = calibrate(sub, dynamic, patch)
     assert cal.points == 10
+    # the load window is closed: a sample exactly at the lowest dynamic load less the 15 % tolerance is inside
+    lo = dyn.fz.min() * (1 - 0.15)
+    edge = sub.df.copy()
+    edge.loc[ten[0], "fz"] = lo
+    assert calibrate(dataclasses.replace(sub, df=edge), dynamic, patch, static_fz_tolerance=0.15).points == 10
 
 
 # ------------------------------------------------------------------------------ tyrefit/sim/allocator.py
@@ -184,3 +189,11 @@ def test_the_steering_objective_penalises_either_axle_outside_either_of_its_limi
         else:
             assert extra == pytest.approx(0.0, abs=1e-12)
     assert ("rear", "lower") in seen
+
+
+def test_the_uncalibrated_identity_claims_no_range_of_u():
+    # UNCALIBRATED: Eq. 1 with f = 1 for any displacement, u = Delta y / L from 0 up
+    from tyrefit.rig.conversion import UNCALIBRATED, RigCalibration
+
+    assert UNCALIBRATED.u_range == (0.0, math.inf) and RigCalibration().u_range == (0.0, math.inf)
+    assert UNCALIBRATED.to_dict()["valid_range"]["u"] == [0.0, math.inf]
