@@ -493,7 +493,7 @@ def _plan(paths: Sequence[Path], out: Path, force: bool, options: dict[str, Any]
         own = design.get(Path(path).resolve(), {})
         fp = fingerprint(path, {**options, **own})
         if tir.exists() and not force:
-            prev = _read_status(status)
+            prev = _read_json(status)
             side = _read_json(_sidecar(tir))
             ours = side is not None and side.get("tir_sha256") == _sha256(tir)
             if ours and all(side.get(k) == fp[k] for k in ("source_sha256", "options", "tyrefit")):
@@ -517,14 +517,6 @@ def _plan(paths: Sequence[Path], out: Path, force: bool, options: dict[str, Any]
             # ours but stale (source, options or version changed), or written before fingerprints: refit
         tasks.append((str(path), str(tir), name, None, None, str(status), fp, own))
     return tasks, done
-
-
-def _read_status(path: Path) -> dict | None:
-    try:
-        rec = json.loads(path.read_text(encoding="utf-8"))
-        return rec if isinstance(rec, dict) else None
-    except (OSError, ValueError):
-        return None
 
 
 def _progress(total: int, enabled: bool, desc: str):
