@@ -237,7 +237,7 @@ def test_runner_scores_caches_and_tabulates(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("layout,noise,effect", [
     ("load6", "iid", None), ("load6", "ar1", None), ("grid24", "offsets", None),
-    ("grid24", "ar1", "camber"), ("grid24", "offsets", "overload"), ("grid24", "iid", "pressure"),
+    ("grid24", "ar1", "camber"), ("grid60", "offsets", "overload"), ("grid24", "iid", "pressure"),
 ])
 def test_a_handful_of_diagnoses(layout, noise, effect):
     row = vr.run_case(layout, noise, effect, seed=11)

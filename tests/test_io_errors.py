@@ -125,7 +125,7 @@ def test_static_without_patch(tmp_path):
     text = "lateral_displacement [mm],fy [N],fz [N]\n" + "".join(f"{d},{20 * d},{5000 - d}\n" for d in range(20))
     ds = read_data(write(tmp_path, text))
     with pytest.raises(DataError, match=r"bad\.csv: a static-rig .* needs contact-patch data .*Eq\. 1.*"
-                                        r"--patch PATCH\.csv with 'length \[mm\]'"):
+                                        r"patch=PATCH\.csv with 'length \[mm\]'"):
         check_fittable(ds)
 
 

@@ -292,8 +292,9 @@ def test_relaxation_length_is_n_l_1_plus_b_u(n, b):
 
 # ------------------------------------------------------------------------------- diagnose: a guard decides
 def test_the_level_out_guard_refuses_a_law_that_worsens_held_out_load_levels():
-    # 4 loads x 2 repeats, a power-law friction truth with sweep offsets: the overload laws fit the training
-    # levels but predict a held-out interior load level 60 N worse; the level-out guard must refuse them, and
+    # 5 loads (two above the rating, so a knee is testable) x 2 repeats, a power-law friction truth with sweep
+    # offsets: the overload laws fit the training levels but predict a held-out interior load level worse; the
+    # level-out guard must refuse them, and
     # nothing confirmed or accepted may worsen a held-out level (the invariant the slow suite checks at scale)
     import importlib
     import sys
@@ -303,8 +304,8 @@ def test_the_level_out_guard_refuses_a_law_that_worsens_held_out_load_levels():
 
     sys.path.insert(0, str(Path(__file__).parent))
     forms = importlib.import_module("diag_forms")
-    d, rated, _ = forms.make("load_friction", "offsets", seed=2, layout="repeated", n_loads=4, repeats=2,
-                             above_rated=1)
+    d, rated, _ = forms.make("load_friction", "offsets", seed=2, layout="repeated", n_loads=5, repeats=2,
+                             above_rated=2)
     dg = diagnose(d, rated_load=rated, seed=2)
     refused = {k for k, c in dg.candidates.items() if c.reason.startswith("worse on held-out condition levels")}
     assert "overload" in refused, {k: (c.status, c.reason) for k, c in dg.candidates.items()}

@@ -248,7 +248,7 @@ def test_pac89_check_finds_unphysical_models(change, match):
     assert t.check() == []
     t.coefficients.update(change)
     assert any(match in p for p in t.check()), t.check()
-    with pytest.raises(ModelError, match="--allow-unphysical"):
+    with pytest.raises(ModelError, match="allow_unphysical=True"):
         require_physical(t)
     assert require_physical(t, allow_unphysical=True)
 
