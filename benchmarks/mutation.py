@@ -46,7 +46,6 @@ from __future__ import annotations
 
 import argparse
 import ast
-import copy
 import hashlib
 import json
 import os
@@ -63,26 +62,41 @@ from pathlib import Path
 TARGETS = {
     "tyrefit/models/pac89.py": ["tests/test_pac89.py", "tests/test_fitting.py", "tests/test_mutations.py"],
     "tyrefit/models/slip.py": ["tests/test_slip.py"],
-    "tyrefit/fitting/engine.py": ["tests/test_fitting.py", "tests/test_robust_fit.py", "tests/test_mutations.py"],
-    "tyrefit/fitting/initial.py": ["tests/test_fitting.py", "tests/test_robust_fit.py"],
-    "tyrefit/io/tir.py": ["tests/test_tir.py", "tests/test_mutations.py"],
-    "tyrefit/io/readers.py": ["tests/test_io_csv.py", "tests/test_io_errors.py"],
-    "tyrefit/io/segment.py": ["tests/test_io_csv.py", "tests/test_io_ttc.py", "tests/test_inspect.py"],
-    # issue 25's modules (the quick files that import each, fastest first: -x stops at the first failure)
-    "tyrefit/fitting/core.py": ["tests/test_fitting_core.py", "tests/test_mutants_issue25.py", "tests/test_fitting.py"],
-    "tyrefit/fitting/mf.py": ["tests/test_mutants_issue25.py", "tests/test_fit_mf_speed.py", "tests/test_fit_mf.py"],
-    "tyrefit/sim/allocator.py": ["tests/test_sim_allocator.py", "tests/test_mutants_issue25.py"],
-    "tyrefit/io/pac89_tir.py": ["tests/test_pac89_tir_units.py", "tests/test_tir.py", "tests/test_fuzz_tyre_files.py"],
-    "tyrefit/rig/patch.py": ["tests/test_rig_patch.py", "tests/test_rig_vertical.py", "tests/test_mutants_issue25.py"],
-    "tyrefit/models/mf61.py": ["tests/test_mf61_model.py", "tests/test_mf_parts.py", "tests/test_mf52_61keys.py",
-                               "tests/test_mf_tir_write.py", "tests/test_mutants_issue25.py",
-                               "tests/test_mf_use_mode.py"],
-    "tyrefit/diagnose/engine.py": ["tests/test_mutants_issue25.py", "tests/test_diagnose.py"],
-    "tyrefit/diagnose/stats.py": ["tests/test_mutants_issue25.py", "tests/test_diagnose.py"],
-    "tyrefit/io/ttc.py": ["tests/test_io_ttc_lines.py", "tests/test_io_ttc.py", "tests/test_ttc_field.py"],
-    "tyrefit/io/outputs.py": ["tests/test_outputs.py", "tests/test_outputs_folder_names.py",
-                              "tests/test_outputs_names.py"],
-    "tyrefit/rig/conversion.py": ["tests/test_rig_conversion.py", "tests/test_mutants_issue25.py"],
+    "tyrefit/fitting/engine.py": ["tests/test_mutants_sampled_fit.py", "tests/test_fitting.py",
+                                  "tests/test_robust_fit.py", "tests/test_mutations.py"],
+    "tyrefit/fitting/initial.py": ["tests/test_mutants_sampled_fit.py", "tests/test_fitting.py",
+                                   "tests/test_robust_fit.py"],
+    "tyrefit/io/tir.py": ["tests/test_mutants_sampled_io.py", "tests/test_tir.py", "tests/test_tir_no_model.py",
+                          "tests/test_mutations.py"],
+    "tyrefit/io/readers.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_csv.py", "tests/test_io_errors.py",
+                              "tests/test_io_load_programme.py"],
+    "tyrefit/io/segment.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_csv.py", "tests/test_io_ttc.py",
+                              "tests/test_inspect.py"],
+    # issue 25's modules (the quick files that import each, fastest first: -x stops at the first failure;
+    # tests/test_mutants_sampled_*.py kill the sampled mutants of --sample 216 --seed 15 that survived the rest)
+    "tyrefit/fitting/core.py": ["tests/test_mutants_sampled_fit.py", "tests/test_fitting_core.py",
+                                "tests/test_mutants_issue25.py", "tests/test_fitting.py"],
+    "tyrefit/fitting/mf.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mutants_issue25.py",
+                              "tests/test_fit_mf_speed.py", "tests/test_fit_mf.py"],
+    "tyrefit/sim/allocator.py": ["tests/test_mutants_sampled_rig.py", "tests/test_sim_allocator.py",
+                                 "tests/test_mutants_issue25.py"],
+    "tyrefit/io/pac89_tir.py": ["tests/test_mutants_sampled_io.py", "tests/test_pac89_tir_units.py",
+                                "tests/test_tir.py", "tests/test_fuzz_tyre_files.py"],
+    "tyrefit/rig/patch.py": ["tests/test_mutants_sampled_rig.py", "tests/test_rig_patch.py",
+                             "tests/test_rig_vertical.py", "tests/test_mutants_issue25.py"],
+    "tyrefit/models/mf61.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mf61_model.py",
+                               "tests/test_mf_parts.py", "tests/test_mf52_61keys.py", "tests/test_mf_tir_write.py",
+                               "tests/test_mutants_issue25.py", "tests/test_mf_use_mode.py"],
+    "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_issue25.py",
+                                   "tests/test_diagnose.py"],
+    "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_issue25.py",
+                                  "tests/test_diagnose.py"],
+    "tyrefit/io/ttc.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_ttc_lines.py", "tests/test_io_ttc.py",
+                          "tests/test_ttc_field.py"],
+    "tyrefit/io/outputs.py": ["tests/test_mutants_sampled_io.py", "tests/test_outputs.py",
+                              "tests/test_outputs_folder_names.py", "tests/test_outputs_names.py"],
+    "tyrefit/rig/conversion.py": ["tests/test_mutants_sampled_rig.py", "tests/test_rig_conversion.py",
+                                  "tests/test_mutants_issue25.py"],
 }
 
 #: the mutations issue 15 found surviving: (name, file, old text, new text, tests)
@@ -148,6 +162,87 @@ NAMED += [
      ["tests/test_rig_conversion.py", "tests/test_mutants_issue25.py"]),
 ]
 
+#: sampled mutants of ``--sample 216 --seed 15`` (code of bce2202) that the quick suite lets live, and why that
+#: is harmless: (file, a fragment of the mutant's changed line as ast.unparse writes it, kind, why).  Kinds:
+#: 'equivalent' (no input reachable through tyrefit behaves differently), 'tie' (differs only where two
+#: computed floats are exactly equal), 'harmless' (differs, but in no result a user sees).  The run prints
+#: the reason under each surviving mutant that matches, and leaves the equivalent ones out of
+#: ``adjusted_score``.
+KNOWN_SURVIVORS = [
+    ("tyrefit/models/pac89.py", "f.E) - f.Sv", "equivalent",
+     "PAC89's longitudinal Sv is 0 x Fz (longitudinal_factors): x - 0 = x + 0"),
+    ("tyrefit/fitting/engine.py", "if spec.name != 'lateral' and 'a4' in why", "harmless",
+     "one-load lateral fits: c0 already holds c_init's a3/a4 unless the caller gave an initial a3 (a start "
+     "value; the mutant keeps it, as fit_pac89(initial=) says)"),
+    ("tyrefit/fitting/engine.py", "if (s, i) == ('b7', 'b8') or ('b6' in self.vary", "harmless",
+     "with b6 fitted (>= 4 loads) the D and BCD end-load laws are dropped as well; they are inactive for "
+     "physical sweeps (longitudinal example: same coefficients to 1e-6)"),
+    ("tyrefit/fitting/initial.py", "rising = last.sum() > 3 and", "harmless",
+     "only a sweep with exactly 3 points past 85 % of its range that peaks early and rises again at its end; "
+     "the estimate seeds the fit"),
+    ("tyrefit/fitting/initial.py", "if nl >= 2 and np.ptp(fzk) >= 0:", "equivalent",
+     "nl >= 2 distinct load levels give ptp > 0; no caller passes n_levels"),
+    ("tyrefit/fitting/initial.py", "if C > 1.0 and B * x_m > 0:", "equivalent",
+     "C > 1 only on Eq. 2's falling branch, where y_a < 0.98 D gives C >= 1.127"),
+    ("tyrefit/fitting/initial.py", "if C > 1.0 + 2e-06 and B * x_m > 0:", "equivalent",
+     "C > 1 only on Eq. 2's falling branch, where y_a < 0.98 D gives C >= 1.127"),
+    ("tyrefit/io/tir.py", "{62: '6.2', 122: '6.1'}", "equivalent",
+     "FITTYP 61 makes the family MF61, whose default is '6.1'"),
+    ("tyrefit/io/tir.py", "entries.get(req, 1) is None", "equivalent", "neither default (0 or 1) is None"),
+    ("tyrefit/io/readers.py", "f = d['fy']", "equivalent",
+     "lateral_slope centres the slip angle per run, so the per-run mean force drops out of sum(a f)"),
+    ("tyrefit/io/readers.py", "'static': ('fy', 0)}", "equivalent",
+     "the expected sign of a static push is never read (the sign check skips static data)"),
+    ("tyrefit/io/segment.py", "np.flatnonzero(d[1:] != d[:-1]) - 1", "harmless",
+     "turning-point candidates 2 samples early bracket the same middle-of-range crossings: identical cuts on "
+     "the bundled TTC record and on an asymmetric test record"),
+    ("tyrefit/io/segment.py", "np.where(ok, idx, 0)", "equivalent",
+     "digits stay distinct among on-level samples; off-level samples never lie in a steady stretch"),
+    ("tyrefit/io/segment.py", "direction = 1 if imax >= imin", "equivalent",
+     "imax == imin means a zero range, never >= the positive threshold"),
+    ("tyrefit/io/segment.py", "Counter(label[(run <= 0) & (label != '')])", "equivalent",
+     "samples of a kept sweep carry no drop label"),
+    ("tyrefit/io/segment.py", "np.median(xs[:max(6, h)])", "harmless",
+     "the dwell trim at windows under 13 samples moves by a sample (8825 v 8826 samples kept of the bundled "
+     "TTC record)"),
+    ("tyrefit/fitting/core.py", "small = z < 1.0", "tie",
+     "Huber's rho and rho' are continuous at z = 1; only rho'' at exactly z = 1 differs"),
+    ("tyrefit/fitting/core.py", "if rel <= tol or dx < tol:", "tie", "a cost fall of exactly tol x the cost"),
+    ("tyrefit/fitting/core.py", "if predicted > 1 else 0.0", "harmless",
+     "Nielsen's damping update only; steps are still accepted on the actual cost fall (same solution to 1e-7)"),
+    ("tyrefit/fitting/mf.py", "if est is None and est.empty", "equivalent",
+     "est is never None; a column-less est fails at its has_peak lookup after the ceiling either way"),
+    ("tyrefit/fitting/mf.py", "if x - grp[-1] >= tol:", "tie",
+     "condition means exactly one tolerance apart (0.5 deg, 5 kPa, 2 km/h)"),
+    ("tyrefit/fitting/mf.py", "1000.0 / np.max(self.w)", "harmless",
+     "the residual of a non-finite model row is a large constant either way (w <= 1): the step is refused"),
+    ("tyrefit/fitting/mf.py", "np.round(np.median(pr), 2)", "harmless",
+     "NOMPRES written to 0.01 Pa instead of 100 Pa: the reference of dpi, the pressure terms absorb it"),
+    ("tyrefit/fitting/mf.py", "g('PDY2', 1) * dfz", "equivalent",
+     "p is always the complete neutral() set plus the stage's values: the default is never used"),
+    ("tyrefit/rig/patch.py", "xs0 = float(max(x[i], 1e-06))", "harmless",
+     "a start-value guard; x[i] (the load nearest 63 % of the widest) is far above both"),
+    ("tyrefit/rig/patch.py", "min=2e-09, meaning='load scale of the rise'", "harmless",
+     "a bound at 1e-9 N on a load scale of ~1e4 N"),
+    ("tyrefit/rig/patch.py", "xs0 = float(max(x[i], 2e-06 * np.max(x)))", "harmless",
+     "a start-value guard; x[i] is far above both"),
+    ("tyrefit/rig/patch.py", "'o', color=c, ms=8)", "harmless", "marker size of the measured points in a plot"),
+    ("tyrefit/diagnose/engine.py", "tot = sum(var.values()) or 0", "harmless",
+     "a guard for a misfit surface of exactly zero variance, which the check never fits (ratio > 1.3 first)"),
+    ("tyrefit/diagnose/engine.py", "new[i] > new[chosen] or new[i] <= new[chosen]", "equivalent",
+     "sets: where new[i] == new[chosen], new[i] <= new[chosen] holds as well"),
+    ("tyrefit/diagnose/stats.py", "np.sign(slope and 1.0)", "equivalent",
+     "the start (B, D) becomes (-B, -D): the same Magic Formula curve, the same SSR"),
+    ("tyrefit/diagnose/stats.py", "np.sum(Tb > T[:, None] * (1 - 1e-09), axis=1)) / (n_boot + 1.0)", "tie",
+     "a bootstrap statistic exactly equal to T (1 - 1e-9); the W = +-1 draws (T* = T) count either way"),
+    ("tyrefit/io/outputs.py", "_RANDOM = 16", "harmless",
+     "side-file names keep 8 more bytes of room: shorter temporary names, never seen"),
+    ("tyrefit/io/outputs.py", "mask = os.umask(1)", "equivalent",
+     "the mask is read and set back: umask(1) returns the same old mask"),
+    ("tyrefit/rig/conversion.py", "max=20.0, unit='1/deg'", "harmless",
+     "a bound on K at 10 per degree; tyres have 0.05-0.5"),
+]
+
 _OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
 _CMP = {ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt, ast.Eq: ast.NotEq, ast.NotEq: ast.Eq}
 
@@ -162,6 +257,8 @@ class Mutant:
     tests: list = field(default_factory=list)
     outcome: str = ""
     seconds: float = 0.0
+    changed: str = ""  # the mutant's first changed line (unparsed), what KNOWN_SURVIVORS match
+    known: tuple = ()  # (kind, why) of a matching KNOWN_SURVIVORS entry
 
 
 def _docstring_ids(tree) -> set:
@@ -227,14 +324,47 @@ def mutants_of(root: Path, rel: str, k: int, seed: int) -> list[Mutant]:
     sites = _sites(tree)
     rng = random.Random(int(hashlib.sha256(f"{seed}:{rel}".encode()).hexdigest()[:12], 16))
     chosen = sorted(rng.sample(range(len(sites)), min(k, len(sites))))
-    out = []
-    for i in chosen:
-        t2 = ast.parse(text)
-        node, kind, what = _sites(t2)[i]
-        line = getattr(node, "lineno", 0)
-        new = ast.fix_missing_locations(_Apply(node, kind).visit(t2))
-        out.append(Mutant(rel, i, what, line, ast.unparse(new), TARGETS[rel]))
+    return [_mutant(text, rel, i) for i in chosen]
+
+
+def _mutant(text: str, rel: str, i: int, original: list[str] | None = None) -> Mutant:
+    """Sampled mutant number ``i`` (site index) of file ``rel`` whose source is ``text``."""
+    t2 = ast.parse(text)
+    node, kind, what = _sites(t2)[i]
+    line = getattr(node, "lineno", 0)
+    src = ast.unparse(ast.fix_missing_locations(_Apply(node, kind).visit(t2)))
+    original = original if original is not None else ast.unparse(ast.parse(text)).splitlines()
+    changed = next((b for a, b in zip(original, src.splitlines()) if a != b), "").strip()
+    return Mutant(rel, i, what, line, src, TARGETS[rel], changed=changed)
+
+
+def rerun_mutants(root: Path, rows: list[dict]) -> list[Mutant]:
+    """The sampled mutants that survived a previous run (its JSON ``rows``), rebuilt from the code at ``root``.
+
+    Raises
+    ------
+    StaleMutant
+        A file changed since that run (its site no longer is the same mutation on the same line).
+    """
+    out, stale = [], []
+    for r in rows:
+        if r["outcome"] != "survived" or r["site"] < 0:
+            continue
+        m = _mutant((Path(root) / r["file"]).read_text(), r["file"], r["site"])
+        if (m.what, m.line) != (r["what"], r["line"]):
+            stale.append(f"{r['file']} site {r['site']}: was {r['what']} at line {r['line']}, now {m.what} at {m.line}")
+        out.append(m)
+    if stale:
+        raise StaleMutant("the code changed since that run (rerun the full sample instead):\n  " + "\n  ".join(stale))
     return out
+
+
+def known_survivor(m: Mutant) -> tuple:
+    """(kind, why) of the :data:`KNOWN_SURVIVORS` entry matching a sampled mutant, or ()."""
+    for f, fragment, kind, why in KNOWN_SURVIVORS:
+        if f == m.file and m.changed and fragment in m.changed:
+            return kind, why
+    return ()
 
 
 def _named_scenarios(root: Path):
@@ -306,12 +436,21 @@ def _copy(root: Path, work: Path) -> None:
             shutil.copy2(root / name, work / name)
 
 
-def run(root: Path, sample: int, seed: int, named: bool, files=None, log=print, only=None) -> dict:
-    """Score the sampled mutants (``sample`` > 0) and, with ``named`` or ``only``, the named ones."""
+def run(root: Path, sample: int, seed: int, named: bool, files=None, log=print, only=None, rerun=None) -> dict:
+    """Score the sampled mutants (``sample`` > 0) and, with ``named`` or ``only``, the named ones.
+
+    ``rerun``: the rows of a previous run's JSON; only its surviving sampled mutants are run (``sample`` and
+    ``files`` are ignored) and the result scores that run's whole sample, those outcomes replaced (named
+    mutants keep their previous outcomes).  A surviving sampled mutant that matches
+    :data:`KNOWN_SURVIVORS` carries its reason; ``adjusted_score`` leaves the ones shown equivalent out.
+    """
     root = Path(root).resolve()
     files = files or list(TARGETS)
     per_file = max(1, round(sample / len(files)))
-    mutants = [m for rel in files for m in mutants_of(root, rel, per_file, seed)] if sample > 0 else []
+    if rerun is not None:
+        mutants = rerun_mutants(root, rerun)
+    else:
+        mutants = [m for rel in files for m in mutants_of(root, rel, per_file, seed)] if sample > 0 else []
     if named or only:
         mutants += named_mutants(root, only)
     with tempfile.TemporaryDirectory(prefix="tyrefit-mut-") as tmp:
@@ -343,16 +482,30 @@ def run(root: Path, sample: int, seed: int, named: bool, files=None, log=print, 
             finally:
                 path.write_text(original)
             log(f"{m.file}:{m.line} [{m.site}] {m.what}: {m.outcome} ({m.seconds:.1f} s)")
-    counted = [m for m in mutants if m.outcome.startswith(("killed", "survived"))]
-    killed = sum(m.outcome.startswith("killed") for m in counted)
-    sampled = [m for m in counted if m.site >= 0]
-    k_s = sum(m.outcome.startswith("killed") for m in sampled)
-    return {"root": str(root), "seed": seed, "sample": sample, "files": files,
-            "score": killed / len(counted) if counted else float("nan"), "killed": killed, "mutants": len(counted),
+    for m in mutants:
+        if m.outcome == "survived" and m.site >= 0:
+            m.known = known_survivor(m)
+    rows = [{"file": m.file, "line": m.line, "site": m.site, "what": m.what, "outcome": m.outcome,
+             "seconds": round(m.seconds, 2), "changed": m.changed,
+             **({"known": m.known[0], "why": m.known[1]} if m.known else {})} for m in mutants]
+    if rerun is not None:  # the previous run's rows, the rerun ones replaced: the score of the whole sample
+        new = {(r["file"], r["site"]): r for r in rows if r["site"] >= 0}
+        rows = [new.get((r["file"], r["site"]), r) if r["site"] >= 0 else r for r in rerun]
+    return {"root": str(root), "seed": seed, "sample": sample, "files": files, **score(rows), "rows": rows}
+
+
+def score(rows: list[dict]) -> dict:
+    """Killed / counted over ``rows`` (all, and the sampled ones alone), and the sampled score without the
+    survivors :data:`KNOWN_SURVIVORS` shows equivalent (``adjusted_score``)."""
+    counted = [r for r in rows if r["outcome"].startswith(("killed", "survived"))]
+    killed = sum(r["outcome"].startswith("killed") for r in counted)
+    sampled = [r for r in counted if r["site"] >= 0]
+    k_s = sum(r["outcome"].startswith("killed") for r in sampled)
+    equivalent = sum(1 for r in sampled if r["outcome"] == "survived" and r.get("known") == "equivalent")
+    return {"score": killed / len(counted) if counted else float("nan"), "killed": killed, "mutants": len(counted),
             "sampled_score": k_s / len(sampled) if sampled else float("nan"), "sampled_killed": k_s,
-            "sampled_mutants": len(sampled),
-            "rows": [{"file": m.file, "line": m.line, "site": m.site, "what": m.what, "outcome": m.outcome,
-                      "seconds": round(m.seconds, 2)} for m in mutants]}
+            "sampled_mutants": len(sampled), "equivalent": equivalent,
+            "adjusted_score": k_s / (len(sampled) - equivalent) if len(sampled) > equivalent else float("nan")}
 
 
 def main(argv=None) -> int:
@@ -365,15 +518,20 @@ def main(argv=None) -> int:
                     "name contains one (with --sample 0, nothing else)")
     ap.add_argument("--files", default="", help="comma-separated subset of the target files")
     ap.add_argument("--json", default="", help="write the rows here")
+    ap.add_argument("--rerun", default="", help="a previous run's --json: run only its surviving sampled mutants "
+                    "and score the whole sample (the previous outcomes of the others)")
     a = ap.parse_args(argv)
     files = [f for f in a.files.split(",") if f] or None
     only = [s for s in a.only.split(",") if s] or None
-    res = run(Path(a.root), a.sample, a.seed, a.named, files, only=only)
+    rerun = json.loads(Path(a.rerun).read_text())["rows"] if a.rerun else None
+    res = run(Path(a.root), a.sample, a.seed, a.named, files, only=only, rerun=rerun)
     print(f"mutation score {res['score']:.3f} ({res['killed']}/{res['mutants']} killed); sampled mutants "
-          f"{res['sampled_score']:.3f} ({res['sampled_killed']}/{res['sampled_mutants']})")
+          f"{res['sampled_score']:.3f} ({res['sampled_killed']}/{res['sampled_mutants']}); without the "
+          f"{res['equivalent']} shown equivalent {res['adjusted_score']:.3f}")
     for r in res["rows"]:
         if r["outcome"] == "survived":
-            print(f"  survived: {r['file']}:{r['line']} {r['what']}")
+            print(f"  survived: {r['file']}:{r['line']} {r['what']}: {r['changed'][:70]}"
+                  + (f"\n      {r['known']}: {r['why']}" if "known" in r else ""))
     if a.json:
         Path(a.json).write_text(json.dumps(res, indent=1))
     return 0

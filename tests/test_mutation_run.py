@@ -58,3 +58,40 @@ def test_the_targets_cover_issue_25s_modules_with_existing_quick_test_files():
     for module, tests in TARGETS.items():
         assert (ROOT / module).is_file(), module
         assert tests and all((ROOT / t).is_file() for t in tests), (module, tests)
+
+
+def test_a_rerun_rebuilds_the_survivors_and_stops_when_their_file_changed():
+    sys.path.insert(0, str(ROOT))
+    import benchmarks.mutation as bm
+
+    m = bm.mutants_of(ROOT, "tyrefit/io/ttc.py", 2, 15)[0]
+    row = {"file": m.file, "site": m.site, "what": m.what, "line": m.line, "outcome": "survived"}
+    again = bm.rerun_mutants(ROOT, [row, {**row, "outcome": "killed"}])
+    assert [(x.site, x.what, x.line, x.source) for x in again] == [(m.site, m.what, m.line, m.source)]
+    assert m.changed and m.changed in m.source
+    with pytest.raises(bm.StaleMutant, match="changed since that run"):
+        bm.rerun_mutants(ROOT, [{**row, "line": m.line + 1}])
+
+
+def test_known_survivors_name_a_target_a_kind_and_a_reason():
+    sys.path.insert(0, str(ROOT))
+    import benchmarks.mutation as bm
+
+    for f, fragment, kind, why in bm.KNOWN_SURVIVORS:
+        assert f in bm.TARGETS and fragment and why and kind in ("equivalent", "tie", "harmless")
+    m = bm.Mutant("tyrefit/io/outputs.py", 0, "constant 8 changed", 83, changed="_RANDOM = 16")
+    assert bm.known_survivor(m)[0] == "harmless"
+    assert bm.known_survivor(bm.Mutant("tyrefit/io/outputs.py", 0, "x", 1, changed="_RANDOM = 9")) == ()
+
+
+def test_the_adjusted_score_leaves_out_only_the_survivors_shown_equivalent():
+    sys.path.insert(0, str(ROOT))
+    from benchmarks.mutation import score
+
+    rows = [{"site": 1, "outcome": "killed"}, {"site": 2, "outcome": "killed (timeout)"},
+            {"site": 3, "outcome": "survived", "known": "equivalent"},
+            {"site": 4, "outcome": "survived", "known": "harmless"},
+            {"site": -1, "outcome": "killed"}, {"site": 5, "outcome": "no tests"}]
+    s = score(rows)
+    assert (s["killed"], s["mutants"], s["sampled_killed"], s["sampled_mutants"], s["equivalent"]) == (3, 5, 2, 4, 1)
+    assert s["adjusted_score"] == pytest.approx(2 / 3)
