@@ -65,9 +65,16 @@ def test_an_even_misfit_in_slip_is_reported_as_even():
     df = make_case((), "iid", seed=2, sigma=15.0, grid=grid).data.copy()
     a = df["slip_angle"].to_numpy()
     df["fy"] = df["fy"] + 0.04 * df["fz"] * (np.abs(a) / np.abs(a).max()) ** 1.5
-    mf = diagnose(df, seed=2).unexplained["misfit"]
+    un = diagnose(df, seed=2).unexplained
+    mf = un["misfit"]
     assert mf["checked"] and mf["systematic"]
+    # the residual by slip range: eight bins across the sweeps' -12..12 deg
+    bins = [b["slip_deg"] for b in un["slip_bins"]]
+    assert len(bins) == 8 and bins[0][0] == pytest.approx(-12.0) and bins[-1][1] == pytest.approx(12.0)
+    assert all(lo < hi for lo, hi in bins)
     assert mf["odd_share"] < 0.2
+    # where: slip ranges inside the sweeps' +-12 deg, each a range (the misfit grows towards both ends)
+    assert mf["slip_ranges"] and all(-12.01 <= b["slip_deg"][0] < b["slip_deg"][1] <= 12.01 for b in mf["slip_ranges"])
 
 
 def test_the_stability_of_a_candidate_is_the_share_of_sweep_resamples_with_a_positive_held_out_gain():
@@ -102,3 +109,34 @@ def test_a_screen_without_bootstrap_draws_rejects_nothing():
     assert dg.accepted == []
     tested = [c for c in dg.candidates.values() if c.status == "not significant"]
     assert tested and all(c.p_value == 1.0 and c.critical == np.inf for c in tested)
+
+
+def test_repeated_sweeps_measure_the_noise_whatever_the_models_error():
+    # repeat_noise: two sweeps of one cell share the model's error; sd = sqrt(mean(diff^2) / 2) is the noise
+    from tyrefit.diagnose.stats import repeat_noise
+
+    rng = np.random.default_rng(4)
+    a = np.radians(np.linspace(-10.0, 10.0, 41))
+    sweeps, cells, slip, resid = [], [], [], []
+    for c in range(3):
+        model_error = 80.0 * np.sin(3 * a + c)               # the same in both repeats of the cell
+        for rep in range(2):
+            sweeps.append(np.full(a.size, 2 * c + rep))
+            cells.append(np.full(a.size, c))
+            slip.append(a)
+            resid.append(model_error + 2.0 * rng.standard_normal(a.size))
+    out = repeat_noise(np.concatenate(slip), np.concatenate(resid), np.concatenate(sweeps), np.concatenate(cells))
+    assert out["pairs"] == 3 and out["cells"] == 3
+    assert out["sd_N"] == pytest.approx(2.0, rel=0.15)
+
+
+def test_a_one_sided_repeat_is_compared_on_its_own_side_only():
+    from tyrefit.diagnose.stats import repeat_noise
+
+    rng = np.random.default_rng(5)
+    a = np.radians(np.linspace(-10.0, 10.0, 41))
+    pos = a[a > 0]
+    slip = np.r_[a, pos]
+    sweep = np.r_[np.zeros(a.size, int), np.ones(pos.size, int)]
+    out = repeat_noise(slip, 2.0 * rng.standard_normal(slip.size), sweep, np.zeros(slip.size, int))
+    assert out["pairs"] == 1 and out["points"] == pos.size

@@ -317,3 +317,42 @@ def test_lmuv_lowers_lateral_friction_as_pacejkas_slip_speed_law():
 def test_a_parameter_made_without_a_value_starts_where_parameters_add_starts_it():
     p = Parameters()
     assert Parameter("x").value == p.add("x").value == 0.0
+
+
+def _published_sweeps(loads, **kw):
+    """Sweeps of the published MF 6.1 set at ``loads`` (fractions of its FNOMIN), its tyre info and FNOMIN."""
+    from tyrefit.synthetic import ttc_drivebrake as gen
+
+    fnomin = gen.PUBLISHED_MF61["FNOMIN"]
+    info = {"fnomin": fnomin, "unloaded_radius": gen.PUBLISHED_MF61["UNLOADED_RADIUS"]}
+    df = gen.make_sweeps(gen.contract_mf61(), pressures=[260e3], loads=[f * fnomin for f in loads], **kw)
+    return df, info, fnomin
+
+
+def test_the_fx0_stage_holds_friction_under_the_data_ceiling_at_every_grid_load():
+    # _factors: Fx0 given the ceiling at each grid load, |mu_x| <= cap; the stage reports that constraint's
+    # worst margin cap - |mu_x| over its grid, which cannot exceed the ceiling, 1.15 x the data's peak |F|/Fz
+    from tyrefit.fitting.mf import MU_CAP, fit_mf
+
+    df, info, _ = _published_sweeps([0.4, 1.0, 1.6], seed=41, cambers_deg=[0.0], slip_angles_deg=[0.0], n_points=31,
+                                    kappa_max=0.12)
+    r = fit_mf(df, tyre_info=info, stages=["Fx0"])
+    row = next(c for c in r.stages["Fx0"].constraints if c["constraint"] == MU_CAP.format(axis="x"))
+    assert row["holds"] and 0.0 <= row["worst"] <= 1.15 * float((df["fx"].abs() / df["fz"]).max())
+
+
+def test_camber_curvature_terms_are_fitted_from_two_camber_levels_at_two_loads():
+    # identifiability: PEY5, PKY5, QDZ4, QSY6 need >= 3 levels of |camber|, or 2 with >= 2 loads
+    from tyrefit.fitting.mf import _STAGE, identifiability, prepare_mf_data
+
+    df, _, fnomin = _published_sweeps([0.5, 1.5], seed=5, cambers_deg=[0.0, 3.0], slip_angles_deg=[0.0, -3.0],
+                                      n_points=13)
+    data = prepare_mf_data(df)
+    st = _STAGE["Fy0"]
+    why, facts = identifiability(st, data.subset(st.sweeps, st.channel), data.sweeps, version="6.1")
+    assert (facts["load_levels"], facts["abs_camber_levels"]) == (2, 2)
+    assert "PKY5" not in why and "PEY5" not in why
+    one_load = df[df["fz"] < fnomin]
+    data1 = prepare_mf_data(one_load)
+    why1, _ = identifiability(st, data1.subset(st.sweeps, st.channel), data1.sweeps, version="6.1")
+    assert "PKY5" in why1
