@@ -241,6 +241,21 @@ KNOWN_SURVIVORS = [
      "the mask is read and set back: umask(1) returns the same old mask"),
     ("tyrefit/rig/conversion.py", "max=20.0, unit='1/deg'", "harmless",
      "a bound on K at 10 per degree; tyres have 0.05-0.5"),
+    # the same seed on the code of 069d4bd (fitting/mf.py split, diagnose's end check reworked): new sites
+    ("tyrefit/fitting/mf.py", "'RBY1': 20.0", "harmless", "a start value of the combined Fy stage"),
+    ("tyrefit/fitting/mf.py", "if self.pure == 'kappa' or self.channel == 'mx':", "harmless",
+     "Mx's analytic Jacobian left out: finite differences instead (speed only)"),
+    ("tyrefit/fitting/mf.py", "np.isfinite(pts['fy'].to_numpy(float)).sum() >= 10:", "harmless",
+     "the Mz0 start estimate also with exactly 10 points (a start value)"),
+    ("tyrefit/fitting/mf.py", "if 'PPX3' not in why else 1,", "harmless",
+     "the start of a PPX3 the data cannot identify: held at its neutral 0 (base takes init only for fitted "
+     "or core names)"),
+    ("tyrefit/fitting/mf.py", "g('RBY1', 1) + g('RBY4', 0)", "equivalent",
+     "p is always the complete neutral() set plus the stage's values: the default is never used"),
+    ("tyrefit/diagnose/stats.py", "np.count_nonzero(Tb >= T * 1)", "tie",
+     "draws within 1e-9 of T: the W = +-1 draws (T* = T up to rounding)"),
+    ("tyrefit/diagnose/stats.py", "rcond=2e-10, hermitian=True) @ sk)", "harmless",
+     "the pseudo-inverse's cut-off at 2e-10 instead of 1e-10 of the largest singular value"),
 ]
 
 _OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
