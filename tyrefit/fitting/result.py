@@ -4,6 +4,14 @@
 lmfit's ``ModelResult`` it carries its own text and HTML reports and a
 ``plot(ax=None)`` of the fit over the data.
 
+This module holds the class, its statistics and warnings, and the
+:class:`~tyrefit.tyres.pac89.Pac89Tyre` it builds (coefficients, fitted
+ranges, design data and the ``.tir`` header).  The figures are
+:mod:`tyrefit.fitting.result_figures` and the HTML report
+:mod:`tyrefit.fitting.result_report`; the methods that draw or report
+delegate to them, and ``unfitted_figures``, ``describe_constant_text`` and
+``NOISE_FLOOR_DEFINITION`` stay importable from here.
+
 Statistics (per part: lateral Fy, longitudinal Fx, aligning Mz)
 ---------------------------------------------------------------
 * residual = model - data at each measured point, in N (N*m for Mz);
@@ -42,18 +50,14 @@ from .._version import __version__
 from ..tyres.pac89 import Pac89Tyre
 from .noise import MAX_POINTS_PER_SWEEP, noise_floor as _nf
 from .core import Parameters
+from . import result_figures, result_report
 from .result_base import TyreFitResult
-from ..io.facets import (_DISPLAY, _decimals, channel_levels, describe_constant, facet_sweeps, format_load, pages,
-                         sweep_conditions)
-from ..io.outputs import check_output, write_text
-from ..io.report import Report
+from .result_figures import _LABEL, _RAD_TO_DEG, describe_constant_text, unfitted_figures  # noqa: F401 (re-exported)
+from .result_report import _COST_TEXT, NOISE_FLOOR_DEFINITION
+from ..io.facets import _DISPLAY, _decimals, channel_levels, sweep_conditions
 
 __all__ = ["FitResult", "noise_floor_of", "NOISE_FLOOR_DEFINITION"]
 
-_RAD_TO_DEG = 180.0 / math.pi
-_LABEL = {"lateral": ("fy", "Fy", "N", "slip_angle", "slip angle [deg]", _RAD_TO_DEG),
-          "longitudinal": ("fx", "Fx", "N", "slip_ratio", "slip ratio [%]", 100.0),
-          "aligning": ("mz", "Mz", "N·m", "slip_angle", "slip angle [deg]", _RAD_TO_DEG)}
 #: RMSE / noise floor above which a fit is flagged (the diagnose end check's threshold)
 FLOOR_RATIO_WARN = 1.5
 #: knot spacing of the within-sweep noise floor per part [deg of slip angle; slip ratio]
@@ -61,9 +65,6 @@ _FLOOR_SPACING = {"lateral": 1.5, "aligning": 1.5, "longitudinal": 0.03 * _RAD_T
 _PART_COEFS = {"lateral": "a0-a13", "longitudinal": "b0-b10", "aligning": "c0-c17"}
 _PART_NEEDS = {"lateral": "slip-angle sweeps with fy", "longitudinal": "slip-ratio sweeps with fx",
                "aligning": "slip-angle sweeps with mz"}
-_COST_TEXT = {"l2": "least squares on μ", "l1": "sum of absolute μ errors (Komana et al. Eq. 5)",
-             "huber": "Huber loss on μ, scale 1.345 × each sweep's noise",
-             "soft_l1": "soft-l1 (pseudo-Huber) loss on μ, scale 1.345 × each sweep's noise"}
 _DESIGN = ("unloaded_radius", "width", "fnomin", "lateral_stiffness", "vertical_stiffness", "rolling_resistance",
            "name", "tyreside", "vertical_curve")
 
@@ -370,105 +371,33 @@ class FitResult(TyreFitResult):
                 "coefficients": {r.name: r.value for r in self.coefficients.itertuples()}}
 
     def _stats_rows(self) -> list[dict]:
-        rows = []
-        for name, s in self.stats.items():
-            lo, hi = s["fz_range"]
-            ratio = s["rmse"] / s["noise_floor"] if s["noise_floor"] > 0 else float("nan")
-            rows.append({"part": name, "points": s["n"], "sweeps": s["sweeps"], "Fz range [N]": f"{lo:.0f}–{hi:.0f}",
-                         "RMSE": f"{s['rmse']:.4g} {s['unit']}", "R²": s["r2"],
-                         "noise floor (within-sweep)": f"{s['noise_floor']:.4g} {s['unit']}",
-                         "RMSE / floor": ratio,
-                         "point scatter": f"{s['point_scatter']:.3g} {s['unit']}",
-                         "Eq. 5 cost Σ|Δμ|": s["eq5_cost"], "fitted coefficients": s["varied"],
-                         "evaluations": s["nfev"], "time [s]": s["seconds"]})
-        return rows
+        return result_report.stats_rows(self)
 
     def _coef_rows(self) -> pd.DataFrame:
-        t = self.coefficients.copy()
-        return t[["name", "value", "stderr", "rel_stderr", "initial", "status"]].rename(
-            columns={"rel_stderr": "stderr [%]", "initial": "Eq. 2–4 start"})
+        return result_report.coef_rows(self)
 
     def sweeps_table(self) -> pd.DataFrame:
-        """The per-sweep table in display units with unit headers (kN, deg, kPa, km/h)."""
-        t = self.sweeps.copy()
-        conv = {"fz": ("Fz [kN]", 1e-3), "camber": ("camber [deg]", 1.0), "slip_angle": ("slip angle [deg]", 1.0),
-                "pressure": ("pressure [kPa]", 1e-3), "speed": ("speed [km/h]", 3.6)}
-        cols = {}
-        for c, (label, f) in conv.items():
-            if c in t:
-                t[c] = t[c] * f
-                cols[c] = label
-        for c in ("peak", "rmse", "bias", "noise"):
-            if c in t:
-                t[c] = t[c].astype(float)
-        if "part" in t:
-            t["unit"] = t["part"].map({"lateral": "N", "longitudinal": "N", "aligning": "N·m"})
-        order = [c for c in ("part", "run", "n", "fz", "camber", "slip_angle", "pressure", "speed", "unit", "peak",
-                             "rmse", "rmse_pct", "bias", "bias_pct", "noise") if c in t]
-        t = t[order].rename(columns={**cols, "n": "points", "peak": "peak [unit]", "rmse": "RMSE [unit]",
-                                     "rmse_pct": "RMSE [% of peak]", "bias": "bias [unit]",
-                                     "bias_pct": "bias [% of peak]", "noise": "noise floor [unit]"})
-        return t
+        """The per-sweep table in display units with unit headers (kN, deg, kPa, km/h)
+        (:func:`tyrefit.fitting.result_report.sweeps_table`)."""
+        return result_report.sweeps_table(self)
 
     def to_html(self) -> str:
-        """HTML fragment: statistics, coefficient table, not-identifiable list, notes."""
-        r = Report("PAC89 fit")
-        self._report_blocks(r, figures=False)
-        return "\n".join(r.blocks)
+        """HTML fragment: statistics, coefficient table, not-identifiable list, notes
+        (:func:`tyrefit.fitting.result_report.to_html`)."""
+        return result_report.to_html(self)
 
     def _repr_html_(self) -> str:
         return self.to_html()
 
     def _report_blocks(self, r, figures: bool = True) -> None:
-        r.p(f"Source: {self.source or 'data frame'}; cost: {_COST_TEXT.get(self.cost, self.cost)}, "
-            "each sweep weighted 1/n.", "note")
-        r.h2("What the tyre holds")
-        r.bullets(self.model_lines())
-        if self.warnings:
-            r.raw('<div class="warn"><b>Warnings</b><ul>' + "".join(f"<li>{_esc(w)}</li>" for w in self.warnings)
-                  + "</ul></div>")
-        r.h2("Statistics")
-        r.table(self._stats_rows())
-        r.p("Noise floor (within-sweep): " + NOISE_FLOOR_DEFINITION + ". Point scatter: the engine's "
-            "neighbour-difference estimate, which also counts the hysteresis between up and down branches.", "note")
-        if figures:
-            for part in self.parts:
-                figs = self.facet_figures(part)
-                for k, fig in enumerate(figs):
-                    page = f" (page {k + 1} of {len(figs)})" if len(figs) > 1 else ""
-                    r.figure(fig, f"{part}: {self.figure_title(part)}; dots: data; one panel per condition "
-                                  f"level{page}")
-                r.figure(self._residual_figure(part), f"{part}: residuals (model − data) against slip, coloured "
-                                                      "by load, with the ± noise-floor band")
-        r.h2("Coefficients")
-        r.table(self._coef_rows(), digits=6)
-        if self.not_identifiable:
-            r.h3("Not identifiable from these data (held at neutral values)")
-            r.bullets([f"{k}: {v}" for k, v in self.not_identifiable.items()])
-        if self.constraints:
-            r.h3("Constraints")
-            r.bullets(self.constraints)
-        for part, c in self.correlations.items():
-            if isinstance(c, pd.DataFrame) and not c.empty:
-                strong = [(a, b, c.loc[a, b]) for i, a in enumerate(c.index) for b in c.columns[i + 1:]
-                          if abs(c.loc[a, b]) > 0.95]
-                if strong:
-                    r.p(f"{part}: strongly correlated pairs: " + ", ".join(f"{a}–{b} {v:+.3f}" for a, b, v in strong))
-        r.h2("Sweeps")
-        r.table(self.sweeps_table(), digits=4)
-        if self.notes:
-            r.h3("Notes")
-            r.bullets(self.notes)
+        """Append the fit to the :class:`~tyrefit.io.report.Report` ``r``
+        (:func:`tyrefit.fitting.result_report.report_blocks`)."""
+        result_report.report_blocks(self, r, figures=figures)
 
     def report(self, directory: str | os.PathLike, force: bool = False, title: str | None = None) -> Path:
-        """Write ``directory/index.html`` (figures embedded) and ``sweeps.csv``; returns the HTML path."""
-        d = Path(directory)
-        check_output(d / "index.html", force)
-        r = Report(title or f"PAC89 fit — {Path(self.source).name if self.source else 'data'}")
-        self._report_blocks(r, figures=True)
-        d.mkdir(parents=True, exist_ok=True)
-        write_text(d / "sweeps.csv", self.sweeps_table().to_csv(index=False), force=True)
-        return r.save(d, force=force)
+        """Write ``directory/index.html`` (figures embedded) and ``sweeps.csv``; returns the HTML path
+        (:func:`tyrefit.fitting.result_report.write_report`)."""
+        return result_report.write_report(self, directory, force=force, title=title)
 
     # ------------------------------------------------------------------ plots
     def facets(self, part: str | None = None):
@@ -476,40 +405,17 @@ class FitResult(TyreFitResult):
 
         Returns ``(facets, info)`` of :func:`tyrefit.io.facets.facet_sweeps`.
         """
-        part = part or self.parts[0]
-        ch = ("pressure", "speed", "slip_angle", "camber") if part == "longitudinal" else \
-            ("pressure", "speed", "camber")
-        return facet_sweeps(self._parts[part].data.df, ch)
+        return result_figures.part_facets(self, part)
 
     def _draw_panel(self, ax, part: str, facet, fz_range=None, legend: bool = True):
-        import matplotlib as mpl
-
-        col, sym, unit, slip, xlabel, xs = _LABEL[part]
-        pf = self._parts[part]
-        df = pf.data.df
-        cmap = mpl.colormaps["viridis"]
-        lo, hi = fz_range or (min(facet.loads), max(facet.loads))
-        for run, fzm in zip(facet.runs, facet.loads):
-            g = df[df["run"] == run]
-            c = cmap(0.85 * (fzm - lo) / (hi - lo)) if hi > lo else cmap(0.3)
-            ax.plot(g[slip] * xs, g[col], ".", ms=3, color=c, alpha=0.5)
-            xg = np.linspace(g[slip].min(), g[slip].max(), 200)
-            cm = float(g["camber"].mean()) if "camber" in g else 0.0
-            yg = pf.data.part.model(pf.coefficients, np.full_like(xg, fzm), xg, cm)
-            ax.plot(xg * xs, yg, "-", color=c, lw=1.4, label=format_load(fzm), gid=f"model run {run}")
-        ax.set_title(facet.title, fontsize=9)
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel(f"{sym} [{unit}]")
-        ax.grid(alpha=0.3)
-        if legend and 0 < len(facet.runs) <= 12:
-            ax.legend(fontsize=7, title="Fz", title_fontsize=7)
-        return ax
+        return result_figures.draw_panel(self, ax, part, facet, fz_range=fz_range, legend=legend)
 
     def plot(self, ax=None, part: str | None = None, camber: float | None = None, pressure: float | None = None):
         """Fit (lines) over data (dots), loads as lines; returns the Axes.
 
         ``ax`` None: a pyplot figure with one panel per condition level (an array of Axes when several);
-        an Axes: the panel of one condition level, chosen by ``camber`` and ``pressure``.
+        an Axes: the panel of one condition level, chosen by ``camber`` and ``pressure``
+        (:func:`tyrefit.fitting.result_figures.plot_fit`).
 
         Parameters
         ----------
@@ -520,65 +426,12 @@ class FitResult(TyreFitResult):
         pressure : float, optional
             the panel at the pressure level nearest this [Pa]; default: the first level.
         """
-        part = part or self.parts[0]
-        facets, info = self.facets(part)
-        if ax is None:  # a pyplot figure (notebooks and plt.show() display it), one panel per condition level
-            import matplotlib.pyplot as plt
-
-            n = len(facets)
-            cols = min(3, n)
-            rows = -(-n // cols)
-            fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.3 * rows), squeeze=False, sharex=True,
-                                     sharey=True, layout="constrained")
-            flat = axes.ravel()
-            for a, f in zip(flat, sorted(facets, key=lambda f: f.row)):
-                self._draw_panel(a, part, f)
-                a.set_title(f.title, fontsize=9)
-            for a in flat[n:]:
-                a.set_visible(False)
-            const = describe_constant_text(info)
-            if const:
-                fig.suptitle(const, fontsize=9)
-            return axes if n > 1 else flat[0]
-        want = {"camber": 0.0 if camber is None else camber}
-        if pressure is not None:
-            want["pressure"] = pressure
-
-        def dist(f):
-            return tuple(abs(f.conditions[c] - v) if c in f.conditions else 0.0 for c, v in want.items())
-
-        best = min(facets, key=lambda f: (dist(f)[::-1], f.row))
-        self._draw_panel(ax, part, best)
-        const = describe_constant_text(info)
-        if const:
-            ax.set_title(best.title + (", " if best.title != "all sweeps" else ": ") + const
-                         if best.title != "all sweeps" else const, fontsize=9)
-        return ax
+        return result_figures.plot_fit(self, ax, part=part, camber=camber, pressure=pressure)
 
     def plot_residuals(self, ax=None, part: str | None = None):
-        """Residuals (model - data) vs slip, coloured by load; returns the Axes."""
-        part = part or self.parts[0]
-        if ax is None:
-            from matplotlib.figure import Figure
-
-            ax = Figure(figsize=(6.4, 4.0)).subplots()
-        col, sym, unit, slip, xlabel, xs = _LABEL[part]
-        pf = self._parts[part]
-        d = pf.data
-        res = d.part.model(pf.coefficients, d.fz, d.slip, d.camber) - d.y
-        sc = ax.scatter(d.slip * xs, res, c=d.fz / 1e3, s=4, cmap="viridis", alpha=0.6)
-        ax.axhline(0, color="k", lw=0.8)
-        nf = self.stats[part]["noise_floor"]
-        if np.isfinite(nf):
-            ax.axhspan(-nf, nf, color="0.85", zorder=0, label=f"± noise floor {nf:.3g} {unit}")
-            ax.legend(fontsize=7)
-        ax.figure.colorbar(sc, ax=ax, label="Fz [kN]")
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel(f"{sym} model − data [{unit}]")
-        ax.set_title(f"{self.model_label} {part} {sym}: residuals of all {self.stats[part]['sweeps']} sweeps, "
-                     f"RMSE {self.stats[part]['rmse']:.3g} {unit}", fontsize=9)
-        ax.grid(alpha=0.3)
-        return ax
+        """Residuals (model - data) vs slip, coloured by load; returns the Axes
+        (:func:`tyrefit.fitting.result_figures.plot_residuals`)."""
+        return result_figures.plot_residuals(self, ax, part=part)
 
     def facet_figures(self, part: str, max_rows: int = 4) -> list:
         """One figure per page of panels showing every sweep of ``part`` (see :meth:`facets`).
@@ -586,126 +439,23 @@ class FitResult(TyreFitResult):
         Each figure's title names the model, what it carries and the
         conditions common to every panel; each panel's title gives its
         condition levels in display units.  Returns a list of
-        :class:`matplotlib.figure.Figure`.
+        :class:`matplotlib.figure.Figure` (:func:`tyrefit.fitting.result_figures.facet_figures`).
         """
-        from matplotlib.figure import Figure
-
-
-        facets, info = self.facets(part)
-        lo, hi = self.stats[part]["fz_range"]
-        figs = []
-        all_pages = pages(facets, max_rows=max_rows)
-        ncols = max(f.col for f in facets) + 1
-        for k, page in enumerate(all_pages):
-            rows = sorted({f.row for f in page})
-            fig = Figure(figsize=(4.2 * ncols, 3.4 * len(rows) + 0.7))
-            axes = fig.subplots(len(rows), ncols, squeeze=False, sharex=True, sharey=True)
-            used = set()
-            for f in page:
-                i = rows.index(f.row)
-                self._draw_panel(axes[i][f.col], part, f, fz_range=(lo, hi))
-                used.add((i, f.col))
-            for i in range(len(rows)):
-                for j in range(ncols):
-                    if (i, j) not in used:
-                        axes[i][j].set_visible(False)
-            const = describe_constant_text(info)
-            title = self.figure_title(part) + (f"\nall sweeps at {const}" if const else "")
-            if len(all_pages) > 1:
-                title += f" (page {k + 1} of {len(all_pages)})"
-            fig.suptitle(title, fontsize=10)
-            fig.tight_layout()
-            figs.append(fig)
-        return figs
+        return result_figures.facet_figures(self, part, max_rows=max_rows)
 
     def _facet_figure(self, part: str):
         """The first page of :meth:`facet_figures` (kept for callers of the old name)."""
         return self.facet_figures(part)[0]
 
     def _residual_figure(self, part: str):
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(7, 3.6))
-        self.plot_residuals(fig.subplots(), part=part)
-        fig.tight_layout()
-        return fig
+        return result_figures.residual_figure(self, part)
 
 
-def unfitted_figures(df: pd.DataFrame, runs, max_rows: int = 4) -> list:
-    """Data-only panels of sweeps a fit left out (combined slip for PAC89, say): one per condition level.
-
-    ``df``: the data read (canonical SI columns with ``run``); ``runs``: the sweeps to draw.  Slip-ratio
-    sweeps draw Fx against slip ratio, slip-angle sweeps Fy against slip angle; panels come from
-    :func:`tyrefit.io.facets.facet_sweeps` (pressure, speed, slip angle, camber) and carry their
-    conditions in the title.  Returns a list of Figures (empty when there is nothing to draw).
-    """
-    import matplotlib as mpl
-    from matplotlib.figure import Figure
-
-
-    sub = df[df["run"].isin(list(runs))]
-    if sub.empty:
-        return []
-    ratio = "slip_ratio" in sub and "fx" in sub and sub.groupby("run")["slip_ratio"].agg(np.ptp).median() > 0.01
-    x, y, xl, yl, xs = (("slip_ratio", "fx", "slip ratio [%]", "Fx [N]", 100.0) if ratio else
-                        ("slip_angle", "fy", "slip angle [deg]", "Fy [N]", _RAD_TO_DEG))
-    if x not in sub or y not in sub:
-        return []
-    ch = ("pressure", "speed", "slip_angle", "camber") if ratio else ("pressure", "speed", "camber")
-    facets, info = facet_sweeps(sub, ch)
-    lo, hi = float(sub["fz"].min()), float(sub["fz"].max())
-    cmap = mpl.colormaps["viridis"]
-    ncols = max(f.col for f in facets) + 1
-    figs = []
-    for page in pages(facets, max_rows=max_rows):
-        rows = sorted({f.row for f in page})
-        fig = Figure(figsize=(4.2 * ncols, 3.4 * len(rows) + 0.7))
-        axes = fig.subplots(len(rows), ncols, squeeze=False, sharex=True, sharey=True)
-        used = set()
-        for f in page:
-            ax = axes[rows.index(f.row)][f.col]
-            used.add((rows.index(f.row), f.col))
-            for run, fzm in zip(f.runs, f.loads):
-                g = sub[sub["run"] == run]
-                c = cmap(0.85 * (fzm - lo) / (hi - lo)) if hi > lo else cmap(0.3)
-                ax.plot(g[x] * xs, g[y], ".", ms=3, color=c, label=format_load(fzm), gid=f"data run {run}")
-            ax.set_title(f.title, fontsize=9)
-            ax.set_xlabel(xl)
-            ax.set_ylabel(yl)
-            ax.grid(alpha=0.3)
-            if len(f.runs) <= 12:
-                ax.legend(fontsize=7, title="Fz", title_fontsize=7, markerscale=3)
-        for i in range(len(rows)):
-            for j in range(ncols):
-                if (i, j) not in used:
-                    axes[i][j].set_visible(False)
-        const = describe_constant(info)
-        fig.suptitle(f"{len(set(sub['run']))} sweeps NOT FITTED (data only, no model line)"
-                     + (f"; all at {const}" if const else ""), fontsize=10)
-        fig.tight_layout()
-        figs.append(fig)
-    return figs
-
-
-#: the one noise-floor definition of fit, diagnose and compare
-NOISE_FLOOR_DEFINITION = ("pooled RMSE of a smooth curve (cubic spline, knots every 1.5 deg of slip angle / 0.03 "
-                          "slip ratio, plus a load-jitter term) through each sweep on its own "
-                          "(tyrefit.fitting.noise.noise_floor)")
 #: PAC89 coefficients that carry camber, per part
 _CAMBER_TERMS = {"lateral": ("a5", "a8", "a11"), "longitudinal": (),
                  "aligning": ("c6", "c10", "c11", "c14", "c15")}
 #: condition channels PAC89 has no input for
 _NOT_IN_PAC89 = ("pressure", "speed")
-
-
-def _esc(s) -> str:
-    import html
-
-    return html.escape(str(s))
-
-
-def describe_constant_text(info: dict) -> str:
-    return describe_constant(info)
 
 
 def within_sweep_noise(d, part: str) -> tuple[float, pd.Series]:
