@@ -47,9 +47,10 @@ LAYERS: list[list[str]] = [
 ]
 
 #: function-level imports of tyrefit's own modules (this checker counts each module named): 218 before the
-#: contract was written, 146 after hoisting those that point to a lower layer;
+#: contract was written, 146 after hoisting those that point to a lower layer, 144 after the rig split
+#: (rig/pipeline.py's io.readers, rig/report.py's rig.static);
 #: lower it when you hoist imports, never raise it
-FUNCTION_LEVEL_MAX = 146
+FUNCTION_LEVEL_MAX = 144
 
 
 def _component(module: str) -> str:
