@@ -40,6 +40,59 @@ def test_the_sweep_offset_noise_is_unbiased_after_a_model_spent_parameters_on_sw
     assert float(np.mean(nm.sd**2)) == pytest.approx(sd**2, rel=0.02)
 
 
+def test_the_sweep_flip_p_value_is_the_share_of_all_sign_patterns_reaching_the_statistic():
+    """stats.py [435] ``screen_candidates`` (flip weights drawn from {-1, 0} instead of {-1, +1}).
+
+    The wild cluster score bootstrap (Kline & Santos 2012) flips the sign of each sweep's score with
+    probability 1/2 (Rademacher weights): with 12 sweeps its p-value is, up to the draws' error, the
+    share of all 2^12 sign patterns whose statistic reaches the observed one.  Weights in {-1, 0} drop
+    sweeps instead of flipping them: the draws' statistic is about a quarter the size and the p-value
+    half the exact one (0.07 against 0.14 here), a false alarm at twice the stated rate.
+    """
+    import itertools
+
+    from tyrefit.diagnose.stats import screen_candidates
+
+    G, n = 12, 15
+    sweep = np.repeat(np.arange(G), n)
+    x = np.tile(np.linspace(-1.0, 1.0, n), G)
+    r = np.random.default_rng(11).standard_normal(G * n) + 0.3 * x
+    scr = screen_candidates(np.ones((G * n, 1)), [x[:, None]], r, SweepLayout(sweep, G), np.random.default_rng(0),
+                            n_boot=3999, method="flip")
+    # the score of x (made orthogonal to the model's constant) per sweep, and T = (sum s)^2 / sum s^2
+    s = np.bincount(sweep, weights=(x - x.mean()) * r, minlength=G)
+    T = s.sum() ** 2 / (s @ s)
+    assert scr.method == "sweep flips" and scr.statistic[0] == pytest.approx(T, rel=1e-9)
+    signs = np.array(list(itertools.product([-1.0, 1.0], repeat=G)))
+    exact = float(np.mean((signs @ s) ** 2 / (s @ s) >= T * (1 - 1e-9)))
+    assert 0.1 < exact < 0.2
+    assert scr.p_value[0] == pytest.approx(exact, abs=0.02)
+
+
+def test_the_noise_models_sweep_offset_sd_is_unbiased_after_the_bootstrap_correction():
+    """stats.py [508] ``screen_candidates`` (tau = 4 tau_obs - mean(pilot tau) instead of 2 tau_obs - ...).
+
+    The noise-model bootstrap corrects each noise parameter by the bias its pilot draws show (Efron &
+    Tibshirani 1993, 10.3: theta - bias = 2 theta - mean(theta*)).  On records of known offset noise
+    (tau 2 N between 10 sweeps, 1 N white within) the corrected tau is right on average; the mutant's
+    is three times too large, so the bootstrap's null draws carry offsets the data do not have and
+    between-sweep candidates (shifts, load laws) lose their power.
+    """
+    from tyrefit.diagnose.stats import screen_candidates
+
+    G, n, tau, sd = 10, 40, 2.0, 1.0
+    sweep = np.repeat(np.arange(G), n)
+    x = np.tile(np.linspace(-1.0, 1.0, n), G)
+    taus = []
+    for seed in range(30):
+        rng = np.random.default_rng(seed)
+        r = sd * rng.standard_normal(G * n) + tau * rng.standard_normal(G)[sweep]
+        scr = screen_candidates(np.c_[np.ones(G * n), x], [(x**2)[:, None]], r, SweepLayout(sweep, G),
+                                np.random.default_rng(seed), n_boot=19, method="noise")
+        taus.append(float(np.asarray(scr.noise.tau).ravel()[0]))
+    assert np.mean(taus) == pytest.approx(tau, rel=0.15)
+
+
 # ------------------------------------------------------------------------------ tyrefit/diagnose/engine.py
 def test_a_rival_is_a_family_that_alone_brings_the_stated_share_of_the_accepted_gain():
     # _rivals: other families' best confirmed candidates whose held-out gain (fall of the mean square error
@@ -55,9 +108,12 @@ def test_a_rival_is_a_family_that_alone_brings_the_stated_share_of_the_accepted_
     assert out[0]["share"] == pytest.approx((400.0 - 144.0) / (400.0 - 100.0))
 
 
-def test_an_even_misfit_in_slip_is_reported_as_even():
-    # a systematic addition even in slip (the same at +alpha and -alpha) that no catalogue effect carries:
-    # the end check's surface is even in slip, odd share near 0 ("the forces at zero slip")
+@pytest.fixture(scope="module")
+def even_misfit():
+    """Diagnosis of 9 sweeps (3 loads x 3 cambers, one pressure and speed) with a misfit even in slip.
+
+    A systematic addition the same at +alpha and -alpha that no catalogue effect carries.
+    """
     from tyrefit.diagnose import diagnose
     from tyrefit.synthetic.hidden import make_case, rig_grid
 
@@ -65,7 +121,12 @@ def test_an_even_misfit_in_slip_is_reported_as_even():
     df = make_case((), "iid", seed=2, sigma=15.0, grid=grid).data.copy()
     a = df["slip_angle"].to_numpy()
     df["fy"] = df["fy"] + 0.04 * df["fz"] * (np.abs(a) / np.abs(a).max()) ** 1.5
-    un = diagnose(df, seed=2).unexplained
+    return diagnose(df, seed=2)
+
+
+def test_an_even_misfit_in_slip_is_reported_as_even(even_misfit):
+    # the end check's surface is even in slip, odd share near 0 ("the forces at zero slip")
+    un = even_misfit.unexplained
     mf = un["misfit"]
     assert mf["checked"] and mf["systematic"]
     # the residual by slip range: eight bins across the sweeps' -12..12 deg
@@ -75,6 +136,42 @@ def test_an_even_misfit_in_slip_is_reported_as_even():
     assert mf["odd_share"] < 0.2
     # where: slip ranges inside the sweeps' +-12 deg, each a range (the misfit grows towards both ends)
     assert mf["slip_ranges"] and all(-12.01 <= b["slip_deg"][0] < b["slip_deg"][1] <= 12.01 for b in mf["slip_ranges"])
+
+
+def test_a_systematic_misfit_names_each_family_the_data_could_not_test_and_why(even_misfit):
+    """engine.py [121] ``_misfit_text`` (the list of families deleted from its sentence).
+
+    The summary of a misfit no catalogue effect explains points at the families these data could not
+    test (one pressure, one speed, 3 loads, no rated load), each with what it would need; the mutant
+    ends the sentence at its colon and names none of them.
+    """
+    dg = even_misfit
+    mf = dg.unexplained["misfit"]
+    assert {dg.candidates[e].family for e in mf["not_testable"]} == {"load_friction", "overload", "pressure", "speed"}
+    text = dg.unexplained["summary"]
+    head = "families these data could not test (one of them may be it): "
+    assert head in text
+    for e in mf["not_testable"]:
+        c = dg.candidates[e]
+        assert c.status == "not testable with these data"
+        assert f"{c.family} ({c.reason})" in text.split(head, 1)[1]
+    assert "pressure (needs >= 2 pressure levels (found 1))" in text
+
+
+def test_the_omnibus_check_tests_as_many_smooth_directions_per_group_as_a_third_of_the_sweeps(even_misfit):
+    """engine.py [252] ``_unexplained`` (q = G // 6 instead of G // 3).
+
+    The end check's omnibus score test: Legendre orders 0-4 of the slip angle (and 5-9, and 0-4 times
+    each condition), at most G/3 directions per group.  With 9 sweeps that is orders 0-2 of each group;
+    the mutant tests only the constant (order 0, resp. 5) of each: it cannot see a misfit in the slope
+    or the curvature of the slip curve.
+    """
+    un = even_misfit.unexplained
+    assert even_misfit.data.n_sweeps == 9
+    groups = un["omnibus_groups"]
+    assert set(groups) == {"slip shape (orders 0-4)", "slip shape (orders 5-9)", "slip x load", "slip x camber"}
+    assert all(g["directions"] == 3 for g in groups.values())
+    assert un["directions"] == 12
 
 
 def test_the_stability_of_a_candidate_is_the_share_of_sweep_resamples_with_a_positive_held_out_gain():
@@ -140,3 +237,68 @@ def test_a_one_sided_repeat_is_compared_on_its_own_side_only():
     sweep = np.r_[np.zeros(a.size, int), np.ones(pos.size, int)]
     out = repeat_noise(slip, 2.0 * rng.standard_normal(slip.size), sweep, np.zeros(slip.size, int))
     assert out["pairs"] == 1 and out["points"] == pos.size
+
+
+def test_a_zero_slip_shift_is_named_from_half_the_noise_floor():
+    """engine.py [1] ``SHIFT_MIN_FLOOR`` (1.0 instead of 0.5).
+
+    ``_shift_evidence`` names a shift of the curve at zero slip (ply steer, conicity) when it is
+    significant and its RMS over the sweeps is at least half the within-sweep noise floor.  8 sweeps
+    through zero slip with 20 N of noise: a 14 N shift (0.7 x the floor, p << 0.1) is named, a 6 N
+    one (0.4 x) is too small; the mutant refuses the 14 N shift as well.
+    """
+    from tyrefit.diagnose.engine import _shift_evidence
+
+    G, n, floor = 8, 49, 20.0
+    d = SimpleNamespace(inputs=SimpleNamespace(slip_angle=np.tile(np.radians(np.linspace(-3.0, 3.0, n)), G),
+                                               fz=np.repeat(np.linspace(2000.0, 8000.0, G), n)),
+                        sweep=np.repeat(np.arange(G), n))
+    noise = floor * np.random.default_rng(3).standard_normal(G * n)
+    assert _shift_evidence(d, noise + 14.0, 0.10, floor) is None
+    small = _shift_evidence(d, noise + 6.0, 0.10, floor)
+    assert small.startswith("a shift at zero slip too small to name") and "0.5 x the noise floor 20 N" in small
+    assert _shift_evidence(d, noise, 0.10, floor).startswith("no shift at zero slip")
+
+
+@pytest.fixture(scope="module")
+def load_law_at_the_ends():
+    """Diagnosis of one sweep at each of 4 loads with a hidden curvature-in-load law (seed 1).
+
+    The 2 interior sweeps are the interpolated held-out evidence; the law shows most at the end loads.
+    """
+    from tyrefit.diagnose import diagnose
+    from tyrefit.synthetic.hidden import make_case, rig_grid
+
+    grid = rig_grid(loads=(2000.0, 4000.0, 6000.0, 8000.0), cambers_deg=(0.0,), pressures=(220e3,))
+    return diagnose(make_case(("curvature_load",), "iid", seed=1, grid=grid).data, seed=1)
+
+
+def test_a_load_law_short_of_the_margin_on_the_interior_sweeps_stands_on_every_held_out_sweep(load_law_at_the_ends):
+    """engine.py [292] ``_Engine.evaluate`` (``and`` -> ``or`` in "not (gain >= margin and p < alpha)").
+
+    With one sweep per load the interpolated evidence is 2 sweeps; a candidate whose interpolated
+    evidence falls short on either count (here: significant, p < alpha, but a gain below the practical
+    margin) may stand on every held-out sweep, the end loads included.  The hidden law is found that
+    way; the mutant falls back only when both counts fail, and finds nothing.
+    """
+    dg = load_law_at_the_ends
+    c = dg.candidates["curvature_load"]
+    margin = dg.settings.margin * dg.noise_floor
+    assert 0.0 < c.delta_heldout < margin  # short on the interior sweeps alone
+    assert dg.accepted == ["curvature_load"]
+    assert c.evidence.startswith("every held-out sweep")
+    assert c.p_heldout < dg.settings.alpha
+
+
+def test_the_all_sweep_evidence_reports_the_fall_of_the_held_out_rmse(load_law_at_the_ends):
+    """engine.py [157] ``_Engine.evaluate`` (delta_heldout_all = cur.rmse_heldout_all, its "- st..." deleted).
+
+    A candidate confirmed on every held-out sweep is reported with that evidence, the RMSE of every
+    held-out sweep before -> after (Step.rmse_heldout_all of the two steps), and it must fall by the
+    practical margin; the mutant's gain is the whole RMSE before (40.5 N "falls" to 78.4 -> 37.9 N).
+    """
+    dg = load_law_at_the_ends
+    before, after = dg.steps[0].rmse_heldout_all, dg.steps[1].rmse_heldout_all
+    assert before - after >= dg.settings.margin * dg.noise_floor
+    reason = dg.candidates["curvature_load"].reason
+    assert f"(every held-out sweep, extrapolated ends included: {before:.1f} -> {after:.1f} N" in reason
