@@ -356,3 +356,21 @@ def test_camber_curvature_terms_are_fitted_from_two_camber_levels_at_two_loads()
     data1 = prepare_mf_data(one_load)
     why1, _ = identifiability(st, data1.subset(st.sweeps, st.channel), data1.sweeps, version="6.1")
     assert "PKY5" in why1
+
+
+def test_each_stage_reports_the_time_it_took_within_the_whole_fit():
+    """mf.py [352] ``_joint_polish`` (its StageFit's seconds = time.perf_counter(), "- t0" deleted).
+
+    Every stage's ``seconds`` is the time that stage took: non-negative, and together no more than the
+    whole fit's ``seconds`` (the stages run one after the other inside it).  The mutant reports the joint
+    polish's time as the clock's reading (hours since boot) in the stage table and the summary.
+    """
+    from tyrefit.fitting.mf import fit_mf
+
+    df, info, _ = _published_sweeps([0.5, 1.0, 1.5], seed=3, cambers_deg=[0.0], slip_angles_deg=[0.0], n_points=15,
+                                    combined=False)
+    r = fit_mf(df, tyre_info=info, stages=["Fy0", "Mz0", "joint", "Mx"], multistart=False)
+    assert set(r.stages) == {"Fy0", "Mz0", "joint", "Mx"} and r.stages["joint"].varied
+    times = {k: s.seconds for k, s in r.stages.items()}
+    assert all(t >= 0.0 for t in times.values()), times
+    assert sum(times.values()) <= r.seconds, (times, r.seconds)
