@@ -1,6 +1,7 @@
 """Fitting PAC89 to tyre test data.
 
-:func:`fit_pac89` runs Komana et al.'s procedure (seed 003, section 4.3):
+:func:`fit_pac89` runs the procedure of Komana, Els and Becker (*Cost efficient tyre testing,
+modelling and validation for PBS assessments*, section 4.3):
 Eq. 2-4 initial estimates per sweep (:mod:`tyrefit.fitting.initial`), then a
 global fit on the friction coefficient (:mod:`tyrefit.fitting.engine`), and
 returns a :class:`FitResult` (:mod:`tyrefit.fitting.result`).

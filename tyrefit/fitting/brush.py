@@ -1,4 +1,4 @@
-"""Fit the camber brush models (seed 001) to contact-patch, pressure and force data.
+"""Fit the camber brush models (Zhang et al. 2024) to contact-patch, pressure and force data.
 
 The paper builds its model in stages, and so does this module:
 
@@ -18,7 +18,7 @@ The paper builds its model in stages, and so does this module:
 
 :func:`calibrate_original` fits the original model to the zero-camber forces
 of an improved model: the "same tyre" described by the simpler model, used
-by the adhesion estimator to compare the two (seed 001 Fig. 16-17).
+by the adhesion estimator to compare the two (Zhang et al. 2024, Fig. 16-17).
 
 Fits state their parameters (value, bounds, vary) as
 :class:`tyrefit.fitting.core.Parameters`, are solved by the one fitting core
@@ -375,7 +375,7 @@ def calibrate_original(improved: bm.BrushParams = bm.DEFAULT_PARAMS, *, n: int =
     at each load), pure and combined slip up to kappa = +/-0.25 and
     alpha = +/-10 deg, on roads of mu = 0.3, 0.6 and 1.  Without camber the two models then describe the
     same tyre; with camber they differ by what the original model leaves out
-    (width loss, load bias, strip radii): seed 001 Fig. 17.
+    (width loss, load bias, strip radii): Zhang et al. 2024, Fig. 17.
     """
     pressure = improved.p_ref if pressure is None else pressure
     kap = np.linspace(-0.25, 0.25, 21)

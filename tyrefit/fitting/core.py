@@ -31,7 +31,7 @@ The cost is an option of the one solver.  With weights w_i and residuals r_i
 (model - data, in whatever quantity the caller fits):
 
 * ``'l2'``: sum w_i r_i^2 (least squares);
-* ``'l1'``: sum w_i |r_i|, Komana et al. (seed 003) Eq. 5, reached by a
+* ``'l1'``: sum w_i |r_i|, Komana, Els and Becker's Eq. 5, reached by a
   pseudo-Huber (soft l1) continuation from the start (normally the l2
   solution): its scale shrinks 0.3, 0.03, 0.003 x the median weighted
   residual, so the smooth problem converges to the l1 minimum;
@@ -46,7 +46,7 @@ Which caller uses which cost, and why:
   ``l2`` by default, ``l1`` / ``huber`` / ``soft_l1`` on request
   (``tyrefit fit --cost``).  mu removes the load scale and 1/n_s keeps a
   densely sampled sweep from dominating: the model's *shape* over the whole
-  test matrix is what the tyre file must carry (seed 003, section 4.3).
+  test matrix is what the tyre file must carry (Komana et al., section 4.3).
 * Magic Formula stages (:mod:`tyrefit.fitting.mf`): the same (force over load,
   moments over load x radius, w = 1/n_s) plus penalty rows for the physical
   constraints (weight 1).

@@ -2,8 +2,8 @@
 
 :func:`fit_pac89` fits the lateral coefficients ``a0``..``a13`` to slip-angle
 sweeps, ``b0``..``b10`` to slip-ratio sweeps and ``c0``..``c17`` to the
-aligning moment when ``mz`` is measured, following Komana et al. (seed 003,
-section 4.3): Eq. 2-4 initial estimates per sweep
+aligning moment when ``mz`` is measured, following Komana, Els and Becker
+(section 4.3): Eq. 2-4 initial estimates per sweep
 (:mod:`tyrefit.fitting.initial`), then one least-squares problem over every
 point on the friction coefficient mu = F / Fz.
 
@@ -63,7 +63,7 @@ The rules (:func:`identifiability`) need, for
 
 References
 ----------
-Komana, Els, Becker (seed 003), section 4.3 and Eq. 2-5.
+Komana, Els, Becker, *Cost efficient tyre testing, modelling and validation for PBS assessments*, Sec. 4.3, Eq. 2-5.
 """
 
 from __future__ import annotations

@@ -38,7 +38,7 @@ largest measured force.  The sweep is flagged ``method='no peak: fallback'``.
 References
 ----------
 Komana, Els, Becker, *Cost efficient tyre testing, modelling and validation
-for PBS assessments* (seed 003), Eq. 2-4.  Pacejka, *Tyre and Vehicle
+for PBS assessments*, Eq. 2-4.  Pacejka, *Tyre and Vehicle
 Dynamics*, 2nd ed. (2006), section 4.3.
 """
 

@@ -73,7 +73,7 @@ for every one of ~100 coefficients per Jacobian.
 
 Initial values
 --------------
-Eq. 2-4 of Komana et al. (seed 003) per sweep (:func:`tyrefit.fitting.initial.estimate_sweep`)
+Eq. 2-4 of Komana, Els and Becker per sweep (:func:`tyrefit.fitting.initial.estimate_sweep`)
 give C, the peak friction D, BCD and E of every pure-slip sweep; linear
 regressions over the sweeps' load, pressure and camber map them to PCX1,
 PDX1/PDX2/PPX3, PKX1/PKX2/PPX1, PEX1 (and the Y equivalents; PKY1 and PKY2
@@ -155,7 +155,7 @@ References
 Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. (2012), sections 4.3.2-4.3.4
 and the equations 4.E1-4.E78; Besselink, Schmeitz, Pacejka, "An improved
 Magic Formula/Swift tyre model that can handle inflation pressure changes",
-VSD 48 (2010) (the PP* terms).  Komana, Els, Becker (seed 003), Eq. 2-5.
+VSD 48 (2010) (the PP* terms).  Komana, Els, Becker, *Cost efficient tyre testing...*, Eq. 2-5.
 """
 
 from __future__ import annotations
@@ -360,11 +360,11 @@ def identifiability(stage: Stage | str, pts: pd.DataFrame, sweeps: pd.DataFrame,
 #: 1.89 / 23.8, 2.03 / 15.8, 1.95 / -50), an argument <= 3.03 rad even at |kappa| = 1.  Without the constraint
 #: slip-ratio samples 0.01 apart do not rule out a phase-wrapped alias, RVY5 ~ 2 x 1.8 with |RVY6| ~ 150 and DV_yk
 #: of the other sign: it meets the generating curve at every sample but swings through the opposite lobe
-#: between kappa = 0 and +-0.01 (|RVY5 atan(RVY6 0.2)| = 5.5 rad).  The staged Fy fit took it on some seeds
-#: (1 pressure and camber, seeds 21, 25: 2.1 % of peak Fy off the generating curve at kappa = +-0.005 in the
-#: alpha = 0 sweeps; the full design at 3 speeds, seeds 1-3: 5.1-5.4 % Fy, 1.8 % Mx through Fy); with the
-#: constraint 0.2-0.5 % and <= 0.18 %, RVY5 1.78-2.03, |RVY6| 23-30.  It is zero wherever it holds: the
-#: one-speed full design's fits are unchanged (seeds 1-20)
+#: between kappa = 0 and +-0.01 (|RVY5 atan(RVY6 0.2)| = 5.5 rad).  A staged Fy fit can land on that alias:
+#: it fits the samples, but between them (near kappa = +-0.005 in the alpha = 0 sweeps) its Fy, and the Mx
+#: computed from Fy, are off the true curve.  This constraint bounds |RVY5 atan(RVY6 kappa)| by pi over the
+#: fitted slip ratios, which keeps the fit in the published range of RVY5 and RVY6.  Its penalty is zero
+#: wherever it holds, so a fit that never approaches the alias is unchanged by it.
 SVYK_LOBE = "SV_yk one lobe per kappa sign (|RVY5 atan(RVY6 kappa)| <= pi)"
 
 
@@ -613,8 +613,8 @@ class _Eval:
         # stage: the 5.2 solvers (MFeval's FITTYP 6 path, which tyrefit's forces() follows) evaluate Mz at
         # kappa = 0 through the combined form -t (Fy - SVyk) + Mzr + s Fx, which differs from the book's pure
         # Mz0 (4.E31, -t0 Fy0(gamma = 0) + Mzr0, models.mf61.mz0) by up to 6.6 N*m of 122 on Chrono's VW
-        # microbus PAC2002 file at 3 deg camber: fitting mz0() to such data stopped at 3.3 x the noise floor
-        # (qa bug 4)
+        # microbus PAC2002 file at 3 deg camber, so mz0() alone cannot fit data made by those solvers down to
+        # the noise floor; the joint evaluation below uses the combined form for them
         self.joint = stage.name == "Mz*" or (stage.name == "Mz0" and version == "5.2")
         self.gamma = pts["camber"].to_numpy(float)
         pr = pts["pressure"].to_numpy(float)
@@ -774,7 +774,7 @@ _BOUNDS = {"PCX1": (0.3, 3.0), "PCY1": (0.3, 3.0), "QCZ1": (0.3, 5.0), "RCX1": (
            # DVy_kappa cos(atan(RVY4 alpha)) (4.E67): the kappa-induced side force fades with the slip angle, to half
            # at 1.73/|RVY4| rad.  Published sets |RVY4| <= ~100 (MFeval's MF 6.1 example -97.05: half at 1.0 deg);
            # sweeps at alpha = 0 and >= 3 deg do not measure how fast it fades in between once the factor there is
-           # within the noise, and unbounded it ran to -1.1e10 (a step at alpha = 0; 1 pressure and camber, seed 23).
+           # within the noise, and unbounded it can run off to a step at alpha = 0 (|RVY4| of order 1e10).
            # 200 (half at 0.5 deg) is twice the published ones; at the bound it is a note (_bound_warnings)
            "RVY4": (-200.0, 200.0),
            # Mx (6.1 manual form): the sine term QSX4 sin(QSX8 atan(QSX9 Fy/Fz0)) is linear in Fy for small QSX9,
@@ -1067,11 +1067,11 @@ def _starts(stage: Stage, c0: dict[str, float]) -> list[dict[str, float]]:
     if stage.name == "Fy":
         # SVy_kappa = DVy_kappa sin(RVY5 atan(RVY6 kappa)) (4.E66): with RVY1 = RVY5 = RVY6 = 0 every one of
         # their derivatives is 0, so the starts give them typical magnitudes of either sign.  RVY4 enters as
-        # cos(atan(RVY4 alpha)) (4.E67), flat at RVY4 = 0 (its derivative is 0 there): from 0 the Fy stage kept
-        # the kappa-induced side force at full size at -3 and -6 deg (RVY4 -3.7 for -97) and moved the shift
-        # SHy_kappa to carry it (RHY1 -0.0037, RHY2 0.0072 for -0.0062, 0.0045), a second minimum of higher cost
-        # (0.000739 against 0.000725, 1 pressure and camber, seed 21) that left Mz 2.3 % of peak off near kappa = 0
-        # at -3 deg.  Published magnitudes 15-100: 20 starts at the low end, off the flat point
+        # cos(atan(RVY4 alpha)) (4.E67), flat at RVY4 = 0 (its derivative is 0 there): from 0 the Fy stage can
+        # keep the kappa-induced side force at full size at large slip angles (|RVY4| far below the published
+        # values) and move the shift SHy_kappa (RHY1, RHY2) to carry it, a second minimum of higher cost
+        # than the true one, which leaves Mz off near kappa = 0 at nonzero slip angle (it goes through Fy).
+        # Published magnitudes 15-100: 20 starts at the low end, off the flat point
         sv = {k: v for k, v in (("RVY1", 0.02), ("RVY4", 20.0), ("RVY5", 1.9), ("RVY6", 10.0)) if k in c0}
         sv_neg = dict(sv, RVY1=-0.02) if "RVY1" in sv else sv
         return [dict(c0, **sv), dict(c0, RBY1=20.0, RBY2=15.0, RCY1=1.0, REY1=-1.0, **sv_neg),
@@ -1552,8 +1552,8 @@ def _joint_polish(data: MFData, p: dict[str, float], fits: Mapping[str, StageFit
     this polish lets every fitted Fx/Fy/Mz coefficient move at once (from the staged values, so no
     multi-start), on the residuals of Fx (drive/brake and combined), Fy (every sweep: as the Fy and Fy0 stages) and Mz
     (all), each weighted as in its stage, with the constraint penalties of the Fx0, Fy0, Mz0, Fx and Fy
-    stages.  Measured on generated data (1 % noise, 10 seeds): the worst combined-Mz error falls from
-    1.095 to about 0.67 % of peak, Fx and Fy by a third.
+    stages.  It lowers the combined-Mz error that the staged K_x/K_y leaves (above), and the Fx and Fy
+    errors with it.
     """
     t0 = time.perf_counter()
     vary = list(dict.fromkeys(k for st in _JOINT_STAGES if st in fits for k in fits[st].varied))

@@ -244,8 +244,8 @@ def channel_signal(data: MFData, channel: str) -> tuple[float, float, str]:
     The scatter is the rms of the channel about its mean over every point that measures it; the noise
     floor is the one of ``fit``/``diagnose`` (:func:`tyrefit.fitting.mf_result._noise_floor`).  For
     pure noise the two are equal, so a channel whose scatter is within :data:`SIGNAL_RATIO` x the floor
-    (signal variance < 0.56 x the noise variance) is not fitted: its coefficients would model noise (qa
-    bug 7: 14 Mx coefficients fitted to a pure-noise MX channel, R^2 -0.0016).
+    (signal variance < 0.56 x the noise variance) is not fitted: its coefficients would model noise (a
+    pure-noise MX channel would otherwise get a full set of Mx coefficients with R^2 near 0).
     """
     d = data.df
     if channel not in d:

@@ -59,7 +59,7 @@ _SLIP = {"longitudinal": "slip_ratio", "lateral": "slip_angle", "combined": "sli
 def _noise_floor(df: pd.DataFrame, channel: str) -> float:
     """The noise floor of ``fit``, ``diagnose`` and ``compare`` (:func:`tyrefit.fitting.result.noise_floor_of`).
 
-    One definition for every model (qa bug 3: PAC89 and MF gave 62.1 and 68.5 N for one file): a
+    One definition for every model, so a PAC89 and an MF fit of one file report the same floor: a
     smooth spline through each sweep (1.5 deg knots along slip angle, 0.03 along slip ratio), pooled
     over the sweeps.  Slip-angle sweeps and slip-ratio sweeps (pure or combined) are taken apart and
     pooled by points.

@@ -1,4 +1,4 @@
-"""Fit seed 002's slippage laws to slip-ratio and rolling-radius data.
+"""Fit the slippage laws of Ghasemi et al. (2021) to slip-ratio and rolling-radius data.
 
 * :func:`fit_friction_slip` fits ``mu = mu_p (1 - exp(-k s))`` (Ghasemi et al.,
   Eq. 8) to friction-slip points by least squares and derives the
@@ -85,7 +85,7 @@ class SlipFit:
         return d
 
     def plot(self, ax=None, label: str | None = None):
-        """Data and fitted law, with the characteristic point (seed 002 Fig. 3); returns the Axes."""
+        """Data and fitted law, with the characteristic point (Ghasemi et al. 2021, Fig. 3); returns the Axes."""
         from matplotlib.figure import Figure
 
         if ax is None:
@@ -170,7 +170,7 @@ def fit_friction_slip(slip, mu, *, nu_c: float = sl.NU_C, fz: float | None = Non
 
 @dataclass
 class RadiusFit:
-    """Rolling radius against wheel torque (seed 002 Eq. 18-20).
+    """Rolling radius against wheel torque (Ghasemi et al. 2021, Eq. 18-20).
 
     ``r0`` is the free-rolling radius: from Eq. 20's kinematic form
     ``r = r0 (1 - s)`` by least squares when the slip is known, otherwise the
@@ -212,7 +212,7 @@ class RadiusFit:
         return d
 
     def plot(self, ax=None):
-        """Radius against torque with the small-torque law (seed 002 Fig. 6); returns the Axes."""
+        """Radius against torque with the small-torque law (Ghasemi et al. 2021, Fig. 6); returns the Axes."""
         from matplotlib.figure import Figure
 
         if ax is None:
@@ -301,7 +301,7 @@ class SlipAnalysis:
         return ax
 
     def plot_curvature(self, ax=None):
-        """Curvature of the fitted laws and the characteristic curvature (seed 002 Fig. 5)."""
+        """Curvature of the fitted laws and the characteristic curvature (Ghasemi et al. 2021, Fig. 5)."""
         from matplotlib.figure import Figure
 
         if ax is None:
@@ -321,7 +321,7 @@ class SlipAnalysis:
         return ax
 
     def plot_mobility(self, ax=None, modified: bool = True):
-        """Mobility-agility index against slip (seed 002 Fig. 7-8); returns the Axes."""
+        """Mobility-agility index against slip (Ghasemi et al. 2021, Fig. 7-8); returns the Axes."""
         from matplotlib.figure import Figure
 
         if ax is None:
@@ -362,7 +362,7 @@ def load_groups(df: pd.DataFrame, rtol: float = 0.05, atol: float = 100.0) -> li
 
 
 def analyse_slip(df: pd.DataFrame, *, nu_c: float = sl.NU_C, source: str = "") -> SlipAnalysis:
-    """Fit the slippage laws of seed 002 to a tidy slip-ratio table.
+    """Fit the slippage laws of Ghasemi et al. (2021) to a tidy slip-ratio table.
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """Brush tyre models: the original camber brush and the width-aware 2N-strip model.
 
-Two models of seed 001 (Zhang et al., *Estimation of road adhesion coefficient
+Two models of Zhang, Zhu, Zhou, Chen and Liu (*Estimation of road adhesion coefficient
 based on camber brush model*, World Electr. Veh. J. 15 (2024) 263):
 
 * the **original camber brush model** (:func:`brush_forces`): one brush the
@@ -27,8 +27,8 @@ Conventions and choices (each stated where it is used)
 -------------------------------------------------------
 * Bristle deflection and theoretical slip follow Pacejka's brush model:
   sigma_x = (omega R_e - V_x) / (omega R_e), sigma_y = -V_y / (omega R_e)
-  (seed 001 Eq. 26), F = K sigma in the linear range with K = 2 a^2 k.
-* Seed 001 writes the power laws with raw coefficients (``a1 Q^a2 / P^a3``);
+  (Zhang et al. 2024, Eq. 26), F = K sigma in the linear range with K = 2 a^2 k.
+* Zhang et al. write the power laws with raw coefficients (``a1 Q^a2 / P^a3``);
   here every power law is normalised at a reference point, e.g.
   ``a = a_ref (q / q_ref)^a2 (p / p_ref)^-a3`` (the same law; the paper's
   ``a1`` is ``a_ref q_ref^-a2 p_ref^a3``), and the linear laws of lambda use
@@ -58,7 +58,7 @@ Conventions and choices (each stated where it is used)
 
 References
 ----------
-Zhang, Zhu, Zhou, Chen, Liu (2024), seed 001 (Eq. numbers above).
+Zhang, Zhu, Zhou, Chen, Liu (2024), World Electr. Veh. J. 15, 263 (Eq. numbers above).
 Pacejka, *Tire and Vehicle Dynamics*, 3rd ed., ch. 3 (brush model, Fiala's
 parabolic-pressure limit used in the tests).
 """
@@ -108,10 +108,10 @@ _SCAN = 33
 
 @dataclass(frozen=True)
 class BrushParams:
-    """Parameters of the camber brush models (SI; seed 001 notation).
+    """Parameters of the camber brush models (SI; the notation of Zhang et al. 2024).
 
     The defaults describe a plausible 205/55R16 passenger tyre at its rated
-    load 4821 N and 240 kPa (seed 001 §2.2) -- they are *illustrative values
+    load 4821 N and 240 kPa (Zhang et al. 2024, §2.2) -- they are *illustrative values
     chosen by tyrefit*, not the paper's (it does not print its fitted
     coefficients).
 
@@ -218,7 +218,7 @@ DEFAULT_PARAMS = BrushParams()
 
 # --- geometry and pressure (Eq. 1-16) --------------------------------------------------
 def contact_half_width(p: BrushParams, fz, pressure, camber):
-    """Contact half-width b [m] (seed 001, Eq. 1).
+    """Contact half-width b [m] (Zhang et al. 2024, Eq. 1).
 
     ``2b = 2 b0 - b1 (fz/fz_ref)^b2 (p/p_ref)^-b3 |gamma|``; the width narrows as the
     tyre leans, whichever way.

@@ -34,7 +34,7 @@ References
 Bakker, Nyborg, Pacejka (1989), Tyre modelling for use in vehicle dynamics
 studies, SAE 870421 / the 1989 extension; Adams/Tire PAC89 documentation;
 Chrono ``ChPac89Tire.cpp``.  Komana, Els, Becker, *Cost efficient tyre
-testing, modelling and validation for PBS assessments* (seed 003) fit a0-a13
+testing, modelling and validation for PBS assessments* (Eq. 2-5) fit a0-a13
 on the friction coefficient.
 """
 

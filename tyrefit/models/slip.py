@@ -1,4 +1,4 @@
-"""Longitudinal slippage characteristics of a wheel (seed 002).
+"""Longitudinal slippage characteristics of a wheel (Ghasemi et al. 2021).
 
 Ghasemi, Vantsevich, Gorsich, Goryca, Singh, Moradi, *Physics based
 single-wheel module slippage assessment for autonomous control design*
@@ -18,7 +18,7 @@ single-wheel module slippage assessment for autonomous control design*
 * wheel mobility index (Eq. 24), its modified form (Eq. 25) and the
   mobility-agility indices (Eq. 26-27).
 
-Slip s here is the seed's slippage ``s = 1 - v_x / (r0 omega)`` (positive in
+Slip s here is the paper's slippage ``s = 1 - v_x / (r0 omega)`` (positive in
 traction); for the small slips of a tyre test it is close to the slip ratio
 of DESIGN (``kappa = r0 omega / v_x - 1 = s / (1 - s)``).  Friction laws apply to
 ``|s|`` with the sign of s (braking is the mirror image of traction).
@@ -49,7 +49,7 @@ __all__ = [
     "modified_mobility_agility_index",
 ]
 
-#: default characteristic curvature (seed 002, Fig. 5)
+#: default characteristic curvature (Ghasemi et al. 2021, Fig. 5)
 NU_C = -2.0
 
 

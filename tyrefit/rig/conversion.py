@@ -1,6 +1,6 @@
 """Static lateral displacement to rolling slip angle: Komana et al. Eq. 1 and its calibration.
 
-Eq. 1 of seed 003 turns the lateral displacement Delta y of a static tyre into
+Eq. 1 of Komana, Els and Becker turns the lateral displacement Delta y of a static tyre into
 the slip angle of a rolling one::
 
     alpha = f(u) * atan(u),     u = Delta y / L                (Komana et al., Eq. 1)

@@ -1,6 +1,6 @@
 """Contact-patch models: length, width and area against load and pressure.
 
-Komana, Els and Becker (seed 003, Sec. 4.1, Fig. 2) find that the contact
+Komana, Els and Becker (Sec. 4.1, Fig. 2) find that the contact
 patch of a truck tyre grows in two stages.  Up to the *shoulder load* the
 elliptical patch grows faster in width than in length; once it reaches the
 tyre shoulders the width stops and only the length grows.  Hence
@@ -419,7 +419,7 @@ class PatchModel:
                          for w, d in self.laws.items()}}
 
     def plot(self, data: pd.DataFrame | None = None, axes=None):
-        """Length, width and area against load per pressure (seed 003, Fig. 2).
+        """Length, width and area against load per pressure (Komana et al., Fig. 2).
 
         Parameters
         ----------
@@ -471,7 +471,7 @@ def _patch_frame(patch) -> tuple[pd.DataFrame, str]:
 
 
 def fit_patch(patch) -> PatchModel:
-    """Fit the contact-patch model of seed 003 to patch data.
+    """Fit the contact-patch model of Komana, Els and Becker (Sec. 4.1) to patch data.
 
     Parameters
     ----------

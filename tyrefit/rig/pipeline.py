@@ -199,7 +199,7 @@ def prepare_static_fit(static_ds, patch_ds, *, rig: RigCalibration | None = None
         vertical-stiffness test: VERTICAL_STIFFNESS and the Chrono curve.
     rated_load : float, optional
         FNOMIN [N]; default: the patch's shoulder load at the test pressure
-        (seed 003: the tyre's maximum load at that pressure is reached when
+        (Komana et al.: the tyre's maximum load at that pressure is reached when
         the patch becomes rectangular).
 
     Returns

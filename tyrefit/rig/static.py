@@ -1,6 +1,6 @@
 """Static tyre test rig (STTR) lateral tests: stiffness, friction, peak and sliding.
 
-On the STTR (Komana, Els and Becker, seed 003, Sec. 4.2, Fig. 5) the loaded,
+On the STTR (Komana, Els and Becker, Sec. 4.2, Fig. 5) the loaded,
 non-rolling tyre is pushed sideways by a plate.  The lateral force first
 grows at a constant rate (stage one: the lateral stiffness), then more slowly
 (stage two: adhesion saturates, the outer sidewall starts to lift), up to the

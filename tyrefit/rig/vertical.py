@@ -1,6 +1,6 @@
 """Vertical stiffness from load-unload tests: two gradients and hysteresis.
 
-Komana, Els and Becker (seed 003, Sec. 4.1, Fig. 3): the vertical force of a
+Komana, Els and Becker (Sec. 4.1, Fig. 3): the vertical force of a
 truck tyre grows piecewise-linearly with the deflection, with a second,
 steeper gradient once the contact patch reaches the shoulders and the
 sidewalls start to carry load; loading is stiffer than unloading
@@ -164,7 +164,7 @@ class VerticalModel:
         return pd.DataFrame(rows)
 
     def plot(self, data: pd.DataFrame | None = None, ax=None):
-        """Force against deflection, loading and unloading, per pressure (seed 003, Fig. 3)."""
+        """Force against deflection, loading and unloading, per pressure (Komana et al., Fig. 3)."""
         import matplotlib
         from matplotlib.figure import Figure
 

@@ -1,4 +1,4 @@
-"""The STTR-vs-DTTR study of seed 003: calibrate on one tyre, predict another from static tests.
+"""The STTR-vs-DTTR study of Komana et al.: calibrate on one tyre, predict another from static tests.
 
 Komana, Els and Becker promise a Pacejka tyre from two days of static tests
 instead of five days of field tests.  :func:`sttr_vs_dttr` checks that
