@@ -1,8 +1,10 @@
 """Vehicle simulations with fitted tyres.
 
-Seed 000 (Pham, Hamedmoghadam, Shorten): wear-aware axle torque allocation
-for an all-wheel-drive EV with low-wear hard tyres in front and soft tyres at
-the rear.
+Pham, Hamedmoghadam and Shorten (2025), *Vehicle dynamics control for
+simultaneous optimization of tire emissions and performance in EVs* (arXiv
+2504.10709): wear-aware axle torque allocation for an all-wheel-drive EV
+with low-wear hard tyres in front and soft tyres at the rear; equation
+numbers below are theirs.
 
 * :mod:`~tyrefit.sim.vehicle` - bicycle model with wheel spin and drag in path
   coordinates (Eq. 1-13), :class:`~tyrefit.sim.vehicle.SimResult`;
@@ -18,6 +20,6 @@ the rear.
 * :mod:`~tyrefit.sim.scenarios` - braking, straight and curved scenarios;
 * :mod:`~tyrefit.sim.plots` - the paper's panels.
 
-:mod:`tyrefit.sim.adhesion` (seed 001's road-adhesion EKF) lives here too but
+:mod:`tyrefit.sim.adhesion` (the road-adhesion EKF of Zhang et al. 2024) lives here too but
 is independent of these modules.
 """

@@ -1,4 +1,4 @@
-"""Road-adhesion estimation with an extended Kalman filter (seed 001, §4).
+"""Road-adhesion estimation with an extended Kalman filter (Zhang et al. 2024, §4).
 
 Zhang et al. estimate the road adhesion coefficient mu of each wheel from the
 body accelerations and the yaw moment with an EKF whose measurement model
@@ -411,7 +411,7 @@ def estimate(truth: TruthRun, tyre: TyreModel, *, final_window: float = 0.3, tol
 def run_experiment(road_mu: float = 0.8, camber_deg: float = 0.0, *, params: bm.BrushParams = bm.DEFAULT_PARAMS,
                    manoeuvre: Manoeuvre = Manoeuvre(), seed: int = 1, truth_n: int = 8, estimator_n: int = 6,
                    models=("improved", "original")) -> tuple[TruthRun, dict[str, AdhesionResult]]:
-    """Seed 001's experiment on one road and camber: truth, then the EKF with each model.
+    """The experiment of Zhang et al. (2024) on one road and camber: truth, then the EKF with each model.
 
     Returns the truth and ``{"improved": AdhesionResult, "original": AdhesionResult}``.
     """

@@ -1,4 +1,4 @@
-"""Wear-aware axle force allocation and the torque controller (seed 000 Sec. 3.2-3.3).
+"""Wear-aware axle force allocation and the torque controller (Pham et al. 2025, Sec. 3.2-3.3).
 
 The low-wear vehicle has hard tyres in front and soft ones at the rear (the
 rear must stay soft, Eq. 21-23).  Given the driver's inputs, the allocator
@@ -20,7 +20,7 @@ correction that give the same body forces with the least tyre-wear emission:
   the d_steer of least emission;
 * **slip limits** (Eq. 49-50) keep each tyre's friction under a share of its
   peak (:class:`PeakShareSlipLimit`), or use the tyre's characteristic slip
-  (seed 002) where the tyre provides one (:class:`CharacteristicSlipLimit`);
+  (Ghasemi et al. 2021) where the tyre provides one (:class:`CharacteristicSlipLimit`);
 * **torque controller**: the paper solves a path-discretised optimal-control
   problem offline.  tyrefit uses a causal force-tracking controller
   (:class:`ForceTrackingController`): invert the tyre curve for the slip that
@@ -61,7 +61,7 @@ __all__ = [
 # ---------------------------------------------------------------------------- closed form (Eq. 29-30)
 
 def optimal_front_force(total, emission_soft: QuadraticEmission, k: float):
-    """Front force minimising N_s(F - F_f) + k N_s(F_f) without limits (seed 000 Eq. 30).
+    """Front force minimising N_s(F - F_f) + k N_s(F_f) without limits (Pham et al. 2025, Eq. 30).
 
     ``emission_soft`` is the soft tyre's law for the *axle* force
     (:meth:`QuadraticEmission.axle`); ``total`` = F_x,f + F_x,r [N].
@@ -97,7 +97,7 @@ def split_no_steering(total, emission_soft: QuadraticEmission, k: float, front_l
 # ---------------------------------------------------------------------------- Alg. 1
 
 def greedy_search(fun, x0, step, tol: float = 1e-12, max_iter: int = 200):
-    """Seed 000's Alg. 1: greedy 1-D local search, vectorised over a batch.
+    """Alg. 1 of Pham et al. (2025): greedy 1-D local search, vectorised over a batch.
 
     From ``x0`` evaluate ``fun`` at x + h and x - h; move to the lower of the
     two if it is lower than f(x), else halve h; stop when h < ``tol``.
@@ -165,7 +165,7 @@ def steering_split(d_steer, *, steer, alpha_f, body_x, body_y, hard_front: AxleT
 
 
 def base_forces_from_motion(*, mass, dvx, dvy, vx, vy, yaw_rate, steer, drag_force, fy_f, fy_r):
-    """Base vehicle's longitudinal forces from its motion (seed 000 Eq. 26-28).
+    """Base vehicle's longitudinal forces from its motion (Pham et al. 2025, Eq. 26-28).
 
     Solves::
 
@@ -188,10 +188,10 @@ def base_forces_from_motion(*, mass, dvx, dvy, vx, vy, yaw_rate, steer, drag_for
 class PeakShareSlipLimit:
     """Slip bounds where |mu| reaches ``share`` of its peak on the rising branch (Eq. 49-50).
 
-    The hard tyre peaks at larger slip, so its bounds are wider, as seed 000
-    notes.  ``share`` = 0.95 is tyrefit's default (the paper's value did not
-    survive); with the bundled tyres it gives the effective friction that
-    reproduces seed 000's Table 3.
+    The hard tyre peaks at larger slip, so its bounds are wider, as Pham et al.
+    note.  ``share`` = 0.95 is tyrefit's default (the paper's value is not
+    used); with the bundled tyres it gives the effective friction that
+    reproduces Table 3 of Pham et al. (2025).
     """
 
     share: float = 0.95
@@ -205,7 +205,7 @@ class PeakShareSlipLimit:
 
 @dataclass(frozen=True)
 class CharacteristicSlipLimit:
-    """Slip bounds at the tyre's characteristic slip s_c (seed 002 Eq. 15-17).
+    """Slip bounds at the tyre's characteristic slip s_c (Ghasemi et al. 2021, Eq. 15-17).
 
     ``slip`` is s_c (> 0), used as +-s_c.  Bounds beyond the slip of peak force
     are moved back to the peak's slip, so the wheel stays on the stable branch.
@@ -227,12 +227,12 @@ class CharacteristicSlipLimit:
 
 @dataclass(frozen=True)
 class CurveCharacteristicSlipLimit:
-    """The characteristic slip of seed 002 computed from the axle's own Fx curve.
+    """The characteristic slip of Ghasemi et al. (2021) computed from the axle's own Fx curve.
 
     Fits mu = mu_p (1 - exp(-k s)) (Ghasemi et al., Eq. 8) to the driving
     branch of the tyre's Fx/Fz curve up to its peak with
     :func:`tyrefit.fitting.slip.fit_friction_slip`, takes s_c (Eq. 16, with
-    curvature ``nu_c``), converts seed 002's slippage s = 1 - v/(r w) to the
+    curvature ``nu_c``), converts the paper's slippage s = 1 - v/(r w) to the
     slip ratio s / (1 - s) and uses it, capped at the slip of peak force, on
     both sides (:class:`CharacteristicSlipLimit`).
     """
@@ -301,7 +301,7 @@ class EqualSplit:
 
 @dataclass
 class WearAwareAllocator:
-    """Seed 000's controller for the low-wear vehicle (hard front, soft rear).
+    """The controller of Pham et al. (2025) for the low-wear vehicle (hard front, soft rear).
 
     Parameters
     ----------

@@ -22,7 +22,7 @@ from ..tyres.base import Tyre
 
 __all__ = ["SimRun", "simulate", "SCENARIOS"]
 
-#: seed 000's scenarios (bicycle model at static loads) and the vehicle-dynamics ones
+#: the scenarios of Pham et al. 2025 (bicycle model at static loads) and the vehicle-dynamics ones
 PAPER_SCENARIOS = ("braking", "straight", "curved")
 SCENARIOS = PAPER_SCENARIOS + ("ramp", "step_steer", "braking_turn")
 
@@ -60,10 +60,10 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
     ----------
     scenario : {'braking', 'straight', 'curved', 'ramp', 'step_steer', 'braking_turn'}
     front, rear : Tyre or path, optional
-        The front (low-wear in seed 000's scenarios) and rear tyres; the bundled
+        The front (low-wear in Pham et al.'s scenarios) and rear tyres; the bundled
         hard and soft tyres when omitted.
     vehicle : str, path, VehicleSpec or dict
-        A preset (``ev``, the default and seed 000's car; ``fsae``; ``light_truck``) or a
+        A preset (``ev``, the default and Pham et al.'s car; ``fsae``; ``light_truck``) or a
         vehicle file (TOML or JSON; :mod:`~tyrefit.sim.vehicle_file`).
     strict : bool
         Refuse (:class:`~tyrefit.errors.ValueRangeError`) when a tyre works outside the

@@ -1,11 +1,11 @@
 """Drivers: human-like inputs (steering, force demand) within comfort limits.
 
-Seed 000 generates the base vehicle's trajectories by a minimum-time optimal
+Pham et al. (2025) generate the base vehicle's trajectories by a minimum-time optimal
 control problem constrained to a human driver's comfort envelope: the
 *aggressive* driver of Bae et al.'s Occupant's Preference Metric for
 longitudinal and lateral acceleration and jerk (Eq. 45-46), bounds on the
 steering angle and rate (Eq. 47-48), |n| <= 1 m (Eq. 44) and a speed window.
-The bounds' numbers did not survive in the seed's text; :class:`ComfortLimits`
+The paper's values of the bounds are not used; :class:`ComfortLimits`
 and :class:`SteeringLimits` hold tyrefit's values, of the size reported for
 aggressive human drivers, and the scenario reports show the accelerations and
 jerks actually driven.
@@ -49,7 +49,7 @@ __all__ = [
 
 @dataclass(frozen=True)
 class ComfortLimits:
-    """Comfort envelope of an aggressive human driver (tyrefit's values; seed 000 Eq. 45-46).
+    """Comfort envelope of an aggressive human driver (tyrefit's values; Pham et al. 2025, Eq. 45-46).
 
     Attributes
     ----------
@@ -76,7 +76,7 @@ class ComfortLimits:
 
 @dataclass(frozen=True)
 class SteeringLimits:
-    """Steering angle [rad] and rate [rad/s] bounds (seed 000 Eq. 47-48; tyrefit's values)."""
+    """Steering angle [rad] and rate [rad/s] bounds (Pham et al. 2025, Eq. 47-48; tyrefit's values)."""
 
     angle_max: float = 0.35
     rate_max: float = 0.5

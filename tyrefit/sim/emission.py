@@ -1,6 +1,6 @@
-"""Tyre-wear particle emission as a quadratic in longitudinal force (seed 000, Eq. 14).
+"""Tyre-wear particle emission as a quadratic in longitudinal force (Pham et al. 2025, Eq. 14).
 
-Seed 000 takes the number of particles a tyre emits as N(F_x) = a F_x^2 +
+Pham et al. take the number of particles a tyre emits as N(F_x) = a F_x^2 +
 b F_x + c, fitted by least squares to particle counts measured in traction
 and braking (Foitzik et al. 2018) under the constraint that N is never
 negative; the fit's minimum lies at a non-zero force.  A low-wear ("hard")
@@ -26,7 +26,7 @@ __all__ = ["QuadraticEmission", "EmissionFit", "fit_emission", "DEFAULT_EMISSION
 
 @dataclass(frozen=True)
 class QuadraticEmission:
-    """N(F) = a F^2 + b F + c particles per second, F [N] (seed 000 Eq. 14).
+    """N(F) = a F^2 + b F + c particles per second, F [N] (Pham et al. 2025, Eq. 14).
 
     Attributes
     ----------
@@ -120,7 +120,7 @@ def fit_emission(fx, particles, weights: str = "absolute") -> EmissionFit:
     particles : array_like
         Particle emission [#/s] (any count rate; the unit carries through).
     weights : {'absolute', 'relative'}
-        'absolute' (default) is ordinary least squares, seed 000's choice;
+        'absolute' (default) is ordinary least squares, Pham et al.'s choice;
         'relative' minimises the sum of squared *relative* residuals
         ((N_model - N)/N)^2, for counts with multiplicative scatter and no
         zero counts.
@@ -189,7 +189,7 @@ def fit_emission(fx, particles, weights: str = "absolute") -> EmissionFit:
 #: DEFAULT emission law per tyre [#/s], force per tyre [N]: the constrained least-squares
 #: fit of the bundled SYNTHETIC ``data/sim/emission.csv`` (truth a = 0.012, minimum 0 at
 #: F0 = 500 N), rounded; the constraint is active, so the minimum (about 0) lies at 500 N.
-#: Seed 000's own coefficients (a fit to Foitzik et al.'s counts) did not survive.
+#: Pham et al.'s own coefficients (a fit to Foitzik et al.'s counts) are not used.
 #: ``tests/test_sim_emission.py`` checks these against a refit of the bundled file.
 DEFAULT_EMISSION = QuadraticEmission(a=0.01249, b=-12.48, c=3117.6,
                                      source="DEFAULT (fit to tyrefit's synthetic emission.csv)")

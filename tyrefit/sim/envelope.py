@@ -73,7 +73,7 @@ def envelope_summary(tyre, pts: OperatingPoints, file: str | None = None) -> dic
 
 
 def points_from_paper_result(res, role: str, fz: dict) -> OperatingPoints:
-    """Operating points of the ``front`` or ``rear`` tyre file in seed 000's scenarios (static loads).
+    """Operating points of the ``front`` or ``rear`` tyre file in Pham et al.'s scenarios (static loads).
 
     The front file runs on the low-wear vehicle's front axle; the rear file on the
     base vehicle's both axles and the low-wear vehicle's rear axle.  ``fz`` maps

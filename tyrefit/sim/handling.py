@@ -6,7 +6,7 @@ r = v / R.  At each a_y the four wheel loads follow
 :func:`~tyrefit.sim.loads.wheel_loads` (lateral transfer, downforce at v, the
 small longitudinal transfer of the drive force that holds the speed against
 drag and rolling resistance), and the bicycle model's steady equations give
-the axle lateral forces (lateral balance and yaw moment, seed 000 Eq. 2-3 with
+the axle lateral forces (lateral balance and yaw moment, Pham et al. 2025, Eq. 2-3 with
 d/dt = 0)::
 
     F_y,f cos(steer) + F_x,f sin(steer) = m a_y l_r / L,     F_y,r = m a_y l_f / L

@@ -1,4 +1,4 @@
-"""Roads in path (curvilinear) coordinates (seed 000 Eq. 11-13).
+"""Roads in path (curvilinear) coordinates (Pham et al. 2025, Eq. 11-13).
 
 Sign convention (ISO 8855 vehicle axes: x forward, y left, z up)
 ---------------------------------------------------------------
@@ -16,7 +16,7 @@ With these signs Eq. 11-13 read::
     dn/dt  = v sin xi + u cos xi
     dxi/dt = r - kappa ds/dt
 
-with v = vx, u = vy and r the yaw rate.  Seed 000's text gives curvature the
+with v = vx, u = vy and r the yaw rate.  Pham et al. give curvature the
 opposite sign (negative for left turns) with the same equations, i.e. its n
 is positive to the right; a left turn here is a right turn there, and every
 result is mirror-symmetric.
@@ -51,7 +51,7 @@ def uk_desirable_minimum_radius(speed_kmh):
 
     Between table speeds the radius is interpolated at constant v^2/R;
     below 50 km/h (outside the table) v^2/R is held at its 50-60 km/h value,
-    about 1.07-1.09 m/s^2 (*inferred*; seed 000's 30 km/h curve of about 32 m
+    about 1.07-1.09 m/s^2 (*inferred*; Pham et al.'s 30 km/h curve of about 32 m
     at half the radius matches it).
     """
     v = np.asarray(speed_kmh, dtype=float)
@@ -180,7 +180,7 @@ def straight_path(length, n_members: int = 1) -> PathGeometry:
 
 
 def curve_path(straight, radius, angle, n_members: int | None = None) -> PathGeometry:
-    """Straight, circular arc (left turn), straight (seed 000's curved path).
+    """Straight, circular arc (left turn), straight (the curved path of Pham et al. 2025).
 
     Parameters
     ----------
@@ -202,7 +202,7 @@ def curve_path(straight, radius, angle, n_members: int | None = None) -> PathGeo
 
 
 def curvilinear_rates(n, xi, vx, vy, yaw_rate, kappa):
-    """Time derivatives of (s, n, xi) in path coordinates (seed 000 Eq. 11-13).
+    """Time derivatives of (s, n, xi) in path coordinates (Pham et al. 2025, Eq. 11-13).
 
     Parameters
     ----------

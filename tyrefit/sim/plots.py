@@ -1,4 +1,4 @@
-"""The paper's panels for the scenarios (seed 000 Figs. 7-12) and CSV traces.
+"""The paper's panels for the scenarios (Pham et al. 2025, Figs. 7-12) and CSV traces.
 
 Colours as in the paper: orange the base vehicle, blue the low-wear one;
 solid lines the front axle, dotted the rear.  Every plot function takes

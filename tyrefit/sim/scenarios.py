@@ -1,4 +1,4 @@
-"""Seed 000's scenarios: emergency braking, straight path, curved path.
+"""The scenarios of Pham et al. (2025): emergency braking, straight path, curved path.
 
 Each scenario simulates the *base* vehicle (soft tyres on both axles, equal
 split) and the *low-wear* vehicle (hard front, soft rear, wear-aware
@@ -63,12 +63,12 @@ CONDITIONS = (0.5, 1.0)
 #: default fixed time step per scenario [s]
 STEP_SIZES = {"braking": 2e-3, "straight": 4e-3, "curved": 4e-3}
 
-#: seed 000 Table 3: (condition, speed km/h) -> (stop base, stop low-wear [m], decel base, decel low-wear [m/s^2])
+#: Pham et al. 2025, Table 3: (condition, km/h) -> (stop base, stop low-wear [m], decel base, decel low-wear [m/s^2])
 PAPER_TABLE3 = {
     (0.5, 30): (6.3, 7.0, 5.4, 4.9), (0.5, 60): (25.8, 28.6, 5.5, 5.0), (0.5, 120): (98.6, 109.6, 5.9, 5.4),
     (1.0, 30): (3.2, 3.6, 10.8, 9.8), (1.0, 60): (13.2, 14.4, 10.9, 9.9), (1.0, 120): (50.6, 56.2, 11.3, 10.3),
 }
-#: seed 000 Tables 4-5: emission reduction [%]
+#: Pham et al. 2025, Tables 4-5: emission reduction [%]
 PAPER_REDUCTION = {
     "straight": {(0.5, 30): 48, (0.5, 60): 51, (0.5, 120): 48, (1.0, 30): 48, (1.0, 60): 57, (1.0, 120): 61},
     "curved": {(0.5, 30): 46, (0.5, 60): 50, (0.5, 120): 63, (1.0, 30): 46, (1.0, 60): 50, (1.0, 120): 61},
@@ -263,7 +263,7 @@ def _tracking(res: SimResult, j: int) -> dict:
 # ------------------------------------------------------------------------------ braking
 
 def run_braking(setup: SimSetup, stop_speed: float = 0.3) -> ScenarioResult:
-    """Emergency braking from each speed at each condition (seed 000 Table 3).
+    """Emergency braking from each speed at each condition (Pham et al. 2025, Table 3).
 
     Stopping distance: distance travelled until the speed falls below
     ``stop_speed`` plus v^2 / (2 a) for the last bit at the last deceleration.

@@ -1,6 +1,6 @@
 """Treadwear versus traction, stopping distances and the hard tyre's emission factor.
 
-Seed 000 (Sec. 3.1 and 4.1):
+Pham et al. 2025 (Sec. 3.1 and 4.1):
 
 * stopping distance with aerodynamic drag and rolling resistance (Eq. 15-16,
   after HPwizard)::
@@ -47,7 +47,7 @@ __all__ = [
     "traction_from_data",
 ]
 
-#: HPwizard's treadwear-traction law mu = a TW^-b (seed 000 [37])
+#: HPwizard's treadwear-traction law mu = a TW^-b (Pham et al. 2025, ref. [37])
 HPWIZARD = {"a": 2.25, "b": 0.15}
 #: HPwizard's typical K = rho C_D A / (2 m g) [s^2/m^2] and rolling resistance f_r [-]
 K_TYPICAL = 6.58e-5
@@ -60,7 +60,7 @@ def drag_constant(drag: float, mass: float, g: float = G0) -> float:
 
 
 def stopping_distance(v0, mu, K: float = K_TYPICAL, f_r: float = F_R_TYPICAL, g: float = G0):
-    """Stopping distance [m] from speed ``v0`` [m/s] at peak friction ``mu`` (seed 000 Eq. 15).
+    """Stopping distance [m] from speed ``v0`` [m/s] at peak friction ``mu`` (Pham et al. 2025, Eq. 15).
 
     ``K`` = 0 gives the drag-free limit v0^2 / (2 g (mu + f_r)).
     """
@@ -72,7 +72,7 @@ def stopping_distance(v0, mu, K: float = K_TYPICAL, f_r: float = F_R_TYPICAL, g:
 
 
 def mu_from_stopping_distance(d, v0, K: float = K_TYPICAL, f_r: float = F_R_TYPICAL, g: float = G0):
-    """Peak friction coefficient from a stopping distance ``d`` [m] from ``v0`` [m/s] (seed 000 Eq. 41)."""
+    """Peak friction coefficient from a stopping distance ``d`` [m] from ``v0`` [m/s] (Pham et al. 2025, Eq. 41)."""
     d = np.asarray(d, dtype=float)
     v0 = np.asarray(v0, dtype=float)
     if K == 0:
@@ -97,7 +97,7 @@ def peak_lateral_acceleration(mu_y_front, mu_y_rear, g: float = G0):
 
 @dataclass(frozen=True)
 class TractionFit:
-    """mu = a TW^-b fitted to (treadwear, mu) pairs (seed 000 Eq. 42)."""
+    """mu = a TW^-b fitted to (treadwear, mu) pairs (Pham et al. 2025, Eq. 42)."""
 
     a: float
     b: float
@@ -143,7 +143,7 @@ class TractionFit:
 
 
 def fit_treadwear_traction(treadwear, mu) -> TractionFit:
-    """Fit mu = a TW^-b by least squares on mu (seed 000 Eq. 42).
+    """Fit mu = a TW^-b by least squares on mu (Pham et al. 2025, Eq. 42).
 
     The start comes from the straight line ln mu = ln a - b ln TW; the final
     fit is nonlinear least squares on mu itself (the fitting core,

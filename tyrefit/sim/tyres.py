@@ -1,11 +1,11 @@
 """Tyres as the vehicle simulation sees them: one axle at its static load.
 
-Seed 000's bicycle model evaluates each axle's tyre curves at the static axle
+The bicycle model of Pham et al. (2025) evaluates each axle's tyre curves at the static axle
 load (no load transfer, Eq. 8-9): F_x,i = eta F_z,i M_x,i(lambda_i) and
 F_y,i = eta F_z,i M_y,i(alpha_i).  The curves come from any tyre behind the
 :class:`~tyrefit.tyres.base.Tyre` interface (a fitted PAC89 ``.tir``, a vendor's
 MF 5.2 / PAC2002 or MF 6.1 / 6.2 file, a Chrono PAC89 JSON) at that load, in
-pure slip (the bicycle model of seed 000 takes Fx from the slip ratio and Fy
+pure slip (the bicycle model of Pham et al. takes Fx from the slip ratio and Fy
 from the slip angle), at the tyre's nominal pressure and speed.
 :class:`AxleTyre` tabulates the axle's two tyres once (a left tyre and its
 mirror image on the right, so conicity and ply-steer offsets cancel as on a
@@ -80,7 +80,7 @@ class AxleTyre:
     Notes
     -----
     Forces are axle totals for condition eta = 1; the vehicle multiplies them
-    by eta (seed 000 Eq. 8-9), which scales the curve without moving its peak.
+    by eta (Pham et al. 2025, Eq. 8-9), which scales the curve without moving its peak.
     """
 
     tyre: Tyre
@@ -271,7 +271,7 @@ def fit_vehicle_tyres(data_dir: str | os.PathLike, out_dir: str | os.PathLike,
     return out
 
 
-#: design data of the two synthetic tyres (sizes of seed 000's MATLAB tyres)
+#: design data of the two synthetic tyres (sizes of Pham et al.'s MATLAB tyres)
 _DESIGN = {
     "soft": {"name": "tyrefit soft 235/45R18 (synthetic data)", "unloaded_radius": 0.3344, "width": 0.235,
              "fnomin": 6573.0},

@@ -1,6 +1,6 @@
-"""Bicycle model with wheel spin and drag, in path coordinates (seed 000 Eq. 1-13).
+"""Bicycle model with wheel spin and drag, in path coordinates (Pham et al. 2025, Eq. 1-13).
 
-Notation.  Seed 000 writes v for the longitudinal and u for the lateral
+Notation.  Pham et al. write v for the longitudinal and u for the lateral
 velocity, delta for the **yaw rate** and sigma for the **steering angle**;
 here they are ``vx``, ``vy``, ``yaw_rate`` and ``steer``.  Axes are ISO 8855
 (x forward, y left, z up; yaw and steering positive counter-clockwise), path
@@ -18,7 +18,7 @@ Equations (one wheel per axle standing for the axle's two tyres)::
 
 and Eq. 11-13 for (s, n, xi).  v_i is the wheel-centre speed along the wheel
 (v_r = vx; v_f = vx cos(steer) + (vy + l_f r) sin(steer)), which reduces to
-Eq. 4's v without steering.  Seed 000's slip angles are positive for a left
+Eq. 4's v without steering.  Pham et al.'s slip angles are positive for a left
 turn (SAE-like); ISO-W slip angles have the opposite sign, so a left turn
 gives negative alpha and positive (leftward) Fy.  Axle loads are static (no
 load transfer) and the tyres have no combined-slip coupling, as in the paper.
@@ -65,7 +65,7 @@ S, N, XI, VX, VY, R, WF, WR = range(8)
 
 @dataclass(frozen=True)
 class VehicleParams:
-    """The simulated vehicle (SI).  Seed 000's own values did not survive; these are tyrefit's.
+    """The simulated vehicle (SI): tyrefit's values, not the paper's.
 
     Attributes
     ----------
@@ -74,13 +74,13 @@ class VehicleParams:
     yaw_inertia : float
         3000 kg m^2 (about 0.55 m l_f l_r, typical of saloons).
     lf, lr : float
-        1.4 m each: a 2.8 m wheelbase with the centre of gravity midway (seed 000: l_f = l_r).
+        1.4 m each: a 2.8 m wheelbase with the centre of gravity midway (Pham et al.: l_f = l_r).
     wheel_radius : float
         0.32 m, the effective rolling radius of both axles.
     wheel_inertia : float
         2.2 kg m^2 per axle (two wheels with hubs, brakes and motor rotor share).
     drag : float
-        C_d = 0.864 kg/m in F = C_d v^2.  **Calibrated to seed 000's Table 3**:
+        C_d = 0.864 kg/m in F = C_d v^2.  **Calibrated to Pham et al.'s Table 3**:
         its maximum decelerations grow by 0.5 m/s^2 from 30 to 120 km/h at both
         conditions, i.e. C_d/m = 4.8e-4 1/m.
     min_speed : float
@@ -131,7 +131,7 @@ class VehicleModel:
     front, rear : AxleTyre
         Axle tyres at the static axle loads.
     condition : array_like, shape (B,)
-        Condition scaling eta of the tyre forces (1 normal, 0.5 wet; seed 000 Sec. 4.2.1).
+        Condition scaling eta of the tyre forces (1 normal, 0.5 wet; Pham et al. 2025, Sec. 4.2.1).
     path : PathGeometry, optional
         Centre lines (B members); straight when omitted.
     """

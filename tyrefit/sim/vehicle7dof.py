@@ -1,4 +1,4 @@
-"""Seven-degree-of-freedom vehicle model of seed 001 (Zhang et al., §4.2, Eq. 33-36).
+"""Seven-degree-of-freedom vehicle model of Zhang et al. (2024, §4.2, Eq. 33-36).
 
 States (named, python-control style): longitudinal and lateral velocity of
 the centre of gravity ``vx``, ``vy`` [m/s], yaw rate ``r`` [rad/s] and the

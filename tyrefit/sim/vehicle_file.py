@@ -136,7 +136,7 @@ class VehicleSpec:
         return 0.5 * self.air_density * self.downforce_area
 
     def to_params(self):
-        """The :class:`~tyrefit.sim.vehicle.VehicleParams` of seed 000's bicycle model (braking/straight/curved).
+        """The :class:`~tyrefit.sim.vehicle.VehicleParams` of Pham et al.'s bicycle model (braking/straight/curved).
 
         That model has one wheel radius and one wheel inertia per axle for both
         axles, static axle loads and drag only (no downforce, rolling resistance
