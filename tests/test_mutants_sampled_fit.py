@@ -129,6 +129,41 @@ def test_lm_normal_counts_every_evaluation_and_keeps_to_max_nfev():
     assert_allclose(q, [2.0, 1.3], rtol=1e-6)
 
 
+def test_lm_normal_takes_the_same_steps_whatever_the_unit_of_the_residuals():
+    """core.py [313] ``lm_normal`` (the gain ratio rho = 0 when the predicted fall is <= 1, not <= 0).
+
+    Marquardt's damping on the scaled normal equations and Nielsen's update from the gain ratio
+    (actual / predicted fall of the cost) make Levenberg-Marquardt blind to the unit of the residuals:
+    an exponential fit in N, in kN or in mN (a PAC89 fit on mu has costs far below 1) takes the same
+    evaluations to the same minimum, the least-squares solution of scipy's own solver.  The mutant
+    reads every step of a cost under 1 as a bad one and doubles the damping: on the small scale it
+    stops at a = 0.33 instead of 2.03 (33 evaluations), on the unit scale short of the minimum.
+    """
+    from scipy.optimize import least_squares
+
+    x = np.linspace(0.0, 3.0, 30)
+    y0 = 2.0 * np.exp(-1.3 * x) + 0.05 * np.random.default_rng(1).standard_normal(x.size)
+    ref = least_squares(lambda q: q[0] * np.exp(-q[1] * x) - y0, [0.2, 4.0], xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+    out = {}
+    for c in (1e-3, 1.0, 1e3):
+        y = c * y0
+
+        def fun(q, y=y):
+            return q[0] * np.exp(-q[1] * x) - y
+
+        def jac(q, y=y):
+            e = np.exp(-q[1] * x)
+            return q[0] * e - y, np.column_stack([e, -q[0] * x * e])
+
+        q, n, ok = lm_normal(jac, fun, np.array([0.2 * c, 4.0]), np.array([0.0, 0.0]), np.array([10.0 * c, 10.0]),
+                             np.array([c, 1.0]), 200)
+        assert ok
+        out[c] = (q / [c, 1.0], n)
+    assert out[1e-3][1] == out[1.0][1] == out[1e3][1]
+    for c in out:
+        assert_allclose(out[c][0], ref, rtol=1e-7)
+
+
 # ------------------------------------------------------------------------------ tyrefit/fitting/engine.py
 @pytest.fixture(scope="module")
 def lateral_sweeps_example():
@@ -374,3 +409,20 @@ def test_each_stage_reports_the_time_it_took_within_the_whole_fit():
     times = {k: s.seconds for k, s in r.stages.items()}
     assert all(t >= 0.0 for t in times.values()), times
     assert sum(times.values()) <= r.seconds, (times, r.seconds)
+
+
+def test_the_nominal_pressure_is_the_datas_pressure_level_to_100_pa():
+    """mf.py [1118] ``_nominal`` (NOMPRES = np.round(median level, 2) instead of -2: to 0.01 Pa, not 100 Pa).
+
+    Without a nominal pressure in the tyre data, NOMPRES (and INFLPRES) is the records' middle pressure
+    level rounded to 100 Pa, as FNOMIN is the middle load rounded to 10 N: a rig that holds 2.4 bar and
+    measures 240 020 +- 30 Pa gives NOMPRES = 240000, not the measured mean's 240019.87 in the .tir.
+    """
+    from tyrefit.fitting.mf import fit_mf
+
+    df, info, _ = _published_sweeps([0.6, 1.4], seed=3, cambers_deg=[0.0], slip_angles_deg=[0.0], n_points=11,
+                                    combined=False)
+    df = df.assign(pressure=240e3 + 20.0 + 30.0 * np.random.default_rng(0).standard_normal(len(df)))
+    assert abs(df.groupby("run")["pressure"].mean().mean() - 240020.0) < 10.0
+    r = fit_mf(df, tyre_info=info, stages=["Fy0"], multistart=False)
+    assert r.params["NOMPRES"] == r.params["INFLPRES"] == 240000.0
