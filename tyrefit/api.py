@@ -84,11 +84,13 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
 
 
 def diagnose(data, *, start: Sequence[str] | None = None, rated_load: float | None = None,
-             convention: str = "iso", seed: int = 0):
-    """What the start model misses, effect by effect (:func:`tyrefit.diagnose.workflow`)."""
+             convention: str = "iso", seed: int = 0, channels: bool = True):
+    """What the start model misses, effect by effect, in Fy and (``channels``) in Mz and Fx where the
+    records carry them (:func:`tyrefit.diagnose.workflow`); ``data`` is one record or several of one tyre."""
     from .diagnose import workflow
 
-    return workflow(data, start=start, rated_load=rated_load, convention=convention, seed=seed)
+    return workflow(data, start=start, rated_load=rated_load, convention=convention, seed=seed,
+                    channels=channels)
 
 
 def compare(a, b, data=None, *, convention: str = "iso", names: Sequence[str] | None = None,

@@ -162,7 +162,8 @@ def build_parser() -> argparse.ArgumentParser:
     _allow_unphysical(p)
 
     p = sub.add_parser("diagnose", parents=[common], help="find the physical effects the model is missing")
-    p.add_argument("data", metavar="DATA")
+    p.add_argument("data", metavar="DATA", nargs="+",
+                   help="one record, or several of one tyre (cornering and drive/brake): Fy, Mz and Fx are diagnosed")
     p.add_argument("--start", metavar="E1,E2", help="effects in the start model (besides base PAC89)")
     p.add_argument("--rated-load", type=float, metavar="NEWTONS", help="rated load for the 'overload' effect [N]")
     p.add_argument("--json", required=True, metavar="OUT.json")

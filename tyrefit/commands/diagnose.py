@@ -1,9 +1,12 @@
-"""``tyrefit diagnose DATA --json OUT.json [--report DIR]``: find the effects a PAC89 model misses.
+"""``tyrefit diagnose DATA [DATA ...] --json OUT.json [--report DIR]``: find the effects a PAC89 model misses.
 
-Reads lateral-force slip sweeps (CSV with unit headers, TYDEX, FSAE TTC),
-runs :func:`tyrefit.diagnose.diagnose` from the start model (base PAC89 plus
-``--start`` effects) and writes the JSON of the DESIGN contract (``start``,
-``accepted``, ``noise_floor``, ``steps``, ``candidates``) and, with
+Reads lateral-force slip sweeps (CSV with unit headers, TYDEX, FSAE TTC), and
+optionally more records of the same tyre (a drive/brake record beside the
+cornering one), runs :func:`tyrefit.diagnose.diagnose` from the start model
+(base PAC89 plus ``--start`` effects) on Fy and
+:func:`tyrefit.diagnose.diagnose_channels` on Mz and Fx where the records carry
+them, and writes the JSON of the DESIGN contract (``start``, ``accepted``,
+``noise_floor``, ``steps``, ``candidates``, ``channels``) and, with
 ``--report DIR``, ``DIR/index.html`` with the whole loop.
 """
 
@@ -20,7 +23,7 @@ __all__ = ["run"]
 
 def run(args) -> int:
     """Run ``tyrefit diagnose``; return the exit code."""
-    from ..diagnose import diagnose
+    from ..diagnose import combine_records, diagnose, diagnose_channels
     from ..effects import parse_effects
     from ..io.readers import read_data
 
@@ -35,9 +38,12 @@ def run(args) -> int:
     rated = getattr(args, "rated_load", None)
     if rated is not None and not (math.isfinite(rated) and rated > 0):
         raise ValueRangeError(f"--rated-load {rated}: the rated load must be a positive force in N (e.g. 6031)")
-    ds = read_data(args.data, convention=getattr(args, "convention", "iso") or "iso")
+    paths = list(args.data) if isinstance(args.data, (list, tuple)) else [args.data]
+    convention = getattr(args, "convention", "iso") or "iso"
+    records = [read_data(p, convention=convention) for p in paths]
     notes: list[str] = []
-    if ds.kind == "static":
+    ds = records[0] if len(records) == 1 else None
+    if ds is not None and ds.kind == "static":
         # static-rig pushes: the same Eq. 1 conversion as `tyrefit fit` (tyrefit.rig.prepare_static_fit)
         from ..workflows.fit import static_input
 
@@ -49,16 +55,25 @@ def run(args) -> int:
                      f"({'calibrated' if sfi.rig.calibrated else 'uncalibrated, f = 1'}; part '{sfi.part}')"]
         notes += list(sfi.notes)
     elif getattr(args, "patch", None) or getattr(args, "rig", None):
-        raise DataError(f"{args.data}: --patch and --rig convert static-rig pushes; this file holds {ds.kind!r} data")
-    if ds.kind != "slip_angle" or "fy" not in ds.df.columns:
-        raise DataError(f"{args.data}: diagnose needs lateral-force slip-angle sweeps (fy against slip_angle) or "
-                        f"static-rig pushes with --patch; this file holds {ds.kind!r} data"
-                        + ("; drive/brake and combined-slip records are fitted with `tyrefit fit FILE --model mf61` "
-                           "(PAC89 has no combined slip)" if ds.kind == "slip_ratio" else ""))
+        kinds = ", ".join(sorted({r.kind for r in records}))
+        raise DataError(f"{' '.join(paths)}: --patch and --rig convert static-rig pushes (one record); "
+                        f"these hold {kinds!s} data")
+    else:
+        lateral = [r for r in records if r.kind == "slip_angle" and "fy" in r.df.columns]
+        if not lateral:
+            kinds = ", ".join(sorted({repr(r.kind) for r in records}))
+            hint = ("; give the tyre's cornering record too (`tyrefit diagnose CORNERING DRIVEBRAKE`) to diagnose "
+                    "Fx beside Fy and Mz, or fit drive/brake records with `tyrefit fit FILE --model mf61`"
+                    if any(r.kind == "slip_ratio" for r in records) else "")
+            raise DataError(f"{' '.join(paths)}: diagnose needs lateral-force slip-angle sweeps (fy against "
+                            f"slip_angle) or static-rig pushes with --patch; found {kinds} data" + hint)
+        ds = combine_records(records)
+        lead = lateral[0]
     dg = diagnose(ds, start=start, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
+    dg.channels, dg.channels_absent = diagnose_channels(ds, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
     dg.data.notes[:0] = notes
     if report_dir:
-        _run_export(dg, ds, args)
+        _run_export(dg, lead if len(records) > 1 else ds, args)
         dg.report(report_dir, force=force)
     dg.to_json(json_path, force=force)
     print(dg.summary())
@@ -74,6 +89,6 @@ def _run_export(dg, ds, args) -> None:
     """
     from ..workflows.fit import fit_pac89_record
 
-    result = fit_pac89_record(ds, name=str(args.data), cost="l2", effects=list(dg.export.get("effects", [])),
+    result = fit_pac89_record(ds, name=str(ds.source), cost="l2", effects=list(dg.export.get("effects", [])),
                               rated_load=getattr(args, "rated_load", None))
     dg.export["fit_rmse"] = float(result.rmse)

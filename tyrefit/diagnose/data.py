@@ -22,7 +22,7 @@ from ..effects.base import DataSummary, ModelInputs
 from ..errors import ColumnError, DataError, option
 from ..fitting.noise import MAX_POINTS_PER_SWEEP
 
-__all__ = ["SweepData", "prepare", "condition_levels", "FACTORS"]
+__all__ = ["SweepData", "prepare", "condition_levels", "segments", "combine_records", "FACTORS"]
 
 #: condition factors: column, resolution used to find levels (SI), display factor, unit
 FACTORS: dict[str, tuple[float, float, str]] = {
@@ -168,6 +168,33 @@ class SweepData:
         return pd.DataFrame(d)
 
 
+def segments(d: pd.DataFrame) -> tuple[np.ndarray, dict, dict, np.ndarray]:
+    """Condition levels of a cleaned frame and its segments (a new one where the run or a level changes).
+
+    Returns ``camber`` [rad] per point (0 without the column), ``levels`` and ``level_index`` per factor
+    of :data:`FACTORS` the frame has (camber always), and the segment index of every point.  A ``load``
+    column (the load set point), when the file has one, defines the load levels: a measured load that
+    wanders along a sweep (air suspension, road) must not split the sweep into "levels".
+    """
+    n = len(d)
+    camber = d["camber"].to_numpy(float) if "camber" in d.columns else np.zeros(n)
+    levels, lidx = {}, {}
+    setpoint = None
+    if "load" in d.columns and d["load"].notna().all() and (d["load"] > 0).all():
+        setpoint = d["load"].to_numpy(float)
+    for f in FACTORS:
+        if f == "camber" or f in d.columns:
+            vals = camber if f == "camber" else (setpoint if f == "fz" and setpoint is not None else d[f].to_numpy(float))
+            levels[f], lidx[f] = condition_levels(vals, FACTORS[f][0])
+            if f == "fz" and setpoint is not None:  # level values: the median measured load of each level
+                fzm = d["fz"].to_numpy(float)
+                levels[f] = np.array([np.median(fzm[lidx[f] == k]) for k in range(len(levels[f]))])
+    run = d["run"].to_numpy() if "run" in d.columns else np.zeros(n)
+    key = np.column_stack([pd.factorize(run)[0]] + [lidx[f] for f in lidx])
+    change = np.r_[True, (np.diff(key, axis=0) != 0).any(axis=1)]
+    return camber, levels, lidx, np.cumsum(change) - 1
+
+
 #: a segment whose slip ratio spans this much (2-98 %) ...
 KAPPA_SWEPT = 0.05
 #: ... while its slip angle spans less than this [rad] is a slip-ratio sweep, not a cornering sweep
@@ -232,6 +259,29 @@ def _frame_of(data) -> tuple[pd.DataFrame, str, dict]:
     raise DataError(f"diagnose needs a Dataset or a DataFrame, got {type(data).__name__}")
 
 
+def combine_records(records: list):
+    """One Dataset of several records of the same tyre (a cornering and a drive/brake record, say).
+
+    The runs are renumbered so that no two records share a sweep id; the first slip-angle record gives
+    the source, sign convention and metadata (the lateral diagnosis and its export read it), and
+    ``meta['sources']`` lists every record.
+    """
+    if len(records) == 1:
+        return records[0]
+    lead = next((r for r in records if getattr(r, "kind", "") == "slip_angle"), records[0])
+    frames, offset = [], 0
+    for r in records:
+        df = r.df.copy()
+        if "run" in df.columns:
+            run = pd.factorize(df["run"])[0]
+            df["run"] = run + offset
+            offset += int(run.max()) + 1 if len(run) else 0
+        frames.append(df)
+    out = _with_df(lead, pd.concat(frames, ignore_index=True, sort=False))
+    out.meta = dict(getattr(lead, "meta", {}) or {}, sources=[str(getattr(r, "source", "")) for r in records])
+    return out
+
+
 def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = MAX_POINTS_PER_SWEEP) -> SweepData:
     """Turn a Dataset (or a DataFrame with canonical SI columns) into :class:`SweepData`.
 
@@ -268,25 +318,7 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = M
                         f"(ISO-W) - for FSAE TTC files pass {option('convention', 'sae')}")
     d = d[d["fz"] > 0].reset_index(drop=True)
     n_raw = len(d)
-    camber = d["camber"].to_numpy(float) if "camber" in d.columns else np.zeros(n_raw)
-    # condition levels and sweeps
-    levels, lidx = {}, {}
-    # the load set point (a 'load' column), when the file has one, defines the load levels: a measured load
-    # that wanders along a sweep (air suspension, road) must not split the sweep into "levels"
-    setpoint = None
-    if "load" in d.columns and d["load"].notna().all() and (d["load"] > 0).all():
-        setpoint = d["load"].to_numpy(float)
-    for f in FACTORS:
-        if f == "camber" or f in d.columns:
-            vals = camber if f == "camber" else (setpoint if f == "fz" and setpoint is not None else d[f].to_numpy(float))
-            levels[f], lidx[f] = condition_levels(vals, FACTORS[f][0])
-            if f == "fz" and setpoint is not None:  # level values: the median measured load of each level
-                fzm = d["fz"].to_numpy(float)
-                levels[f] = np.array([np.median(fzm[lidx[f] == k]) for k in range(len(levels[f]))])
-    run = d["run"].to_numpy() if "run" in d.columns else np.zeros(n_raw)
-    key = np.column_stack([pd.factorize(run)[0]] + [lidx[f] for f in lidx])
-    change = np.r_[True, (np.diff(key, axis=0) != 0).any(axis=1)]
-    seg = np.cumsum(change) - 1
+    camber, levels, lidx, seg = segments(d)
     # drop short segments (ramps between set points)
     counts = np.bincount(seg)
     ok = counts[seg] >= 8

@@ -21,6 +21,7 @@ from ..effects import EFFECTS, get_effect
 from ..io.outputs import staged_dir, write_text
 from ..io.report import Report, esc
 from . import views
+from .channel_report import add_channel_sections
 from .advice import PEAK_SEARCH_DEG, level_curve, needs_model
 
 __all__ = ["write_report", "build_report"]
@@ -270,6 +271,7 @@ def build_report(dg) -> tuple[Report, dict[str, str]]:
         r.table([{"slip range [deg]": f"{b['slip_deg'][0]:.1f} … {b['slip_deg'][1]:.1f}",
                   "mean residual [N]": b["mean_N"], "sweep-robust SE [N]": b["se_N"]} for b in u["slip_bins"]],
                 digits=3, caption="final residual by slip range (mean over sweeps)")
+    add_channel_sections(r, dg)
     r.json_block(dg.to_dict(), "diagnosis JSON")
     tables = {"cells.csv": cells.to_csv(index=False),
               "candidates.csv": pd.DataFrame([dg.candidates[e].to_dict() for e in EFFECTS])

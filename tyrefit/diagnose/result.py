@@ -44,6 +44,9 @@ class Diagnosis:
     peaks : list of dict
         Per load level, the final model's force peak against the sweeps' reach
         (:func:`~tyrefit.diagnose.advice.peak_reach`).
+    channels : dict
+        ``'mz'`` / ``'fx'`` -> :class:`~tyrefit.diagnose.channels.ChannelDiagnosis` of the other channels
+        the record carries (empty when they were not diagnosed); ``channels_absent`` says why one is missing.
     """
 
     data: SweepData
@@ -61,6 +64,8 @@ class Diagnosis:
     advice: list = field(default_factory=list)
     screening: dict = field(default_factory=dict)
     peaks: list = field(default_factory=list)
+    channels: dict = field(default_factory=dict)
+    channels_absent: dict = field(default_factory=dict)
 
     # -- summaries -------------------------------------------------------------------
     @property
@@ -133,12 +138,23 @@ class Diagnosis:
                      # per load: the final model's force peak [deg] against the sweeps' reach [deg]
                      "peak_reach": [dict(p) for p in self.peaks]},
             "advice": [dict(a) for a in self.advice],
+            **({"channels": {"fy": self.lateral_channel(), **{k: v.to_dict() for k, v in self.channels.items()}},
+                "channels_not_diagnosed": dict(self.channels_absent)} if self.channels else {}),
             "screening": dict(self.screening),
             "needs_model": {e: m for e in self.accepted if (m := needs_model(e))},
             "settings": dict(self.settings.__dict__),
             "seed": self.seed,
             "seconds": float(self.seconds),
         }
+
+    def lateral_channel(self) -> dict:
+        """The lateral diagnosis in the layout of a ``channels`` entry (N)."""
+        return {"unit": "N", "start": list(self.start), "accepted": list(self.accepted),
+                "noise_floor": float(self.noise_floor),
+                "steps": [{"effects": s.effects, "rmse": float(s.rmse), "rmse_heldout": float(s.rmse_heldout),
+                           "added": s.added} for s in self.steps],
+                "unexplained": {k: v for k, v in self.unexplained.items() if k in ("summary", "structure_found",
+                                                                                   "verdict")}}
 
     def to_json(self, path: str | os.PathLike | None = None, force: bool = False) -> str:
         """The diagnosis as JSON text; also written atomically to ``path`` when given."""
@@ -165,6 +181,10 @@ class Diagnosis:
         lines.append("accepted: " + (", ".join(f"{a} ({m})" if (m := needs_model(a)) else a for a in self.accepted)
                                      if self.accepted else "nothing beyond the start model"))
         lines.append(self.unexplained.get("summary", ""))
+        for ch in self.channels.values():
+            lines.append(ch.summary())
+        for ch, why in self.channels_absent.items():
+            lines.append(f"{ch}: not diagnosed ({why})")
         if self.advice:
             lines.append("advice (what these data leave open, and the test that would decide it):")
             lines += ["  " + t for t in advice_lines(self.advice)]

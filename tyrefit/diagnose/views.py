@@ -106,12 +106,15 @@ def _facet_title(data, c, p):
     return t
 
 
-def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24):
-    """Residual maps over slip angle and load, faceted by camber and pressure.
+def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24, *,
+                       slip_label: str = "slip angle [deg]", slip_factor: float = 1.0 / _DEG, unit: str = "N"):
+    """Residual maps over slip and load, faceted by camber and pressure.
 
     One row per step (start model, final model), one column per facet; the
-    colour is the mean residual (model - data) [N] in each slip bin and load
-    level, on one symmetric colour scale shared by every panel.
+    colour is the mean residual (model - data) [``unit``] in each slip bin and load
+    level, on one symmetric colour scale shared by every panel.  The slip axis
+    shows ``d.inputs.slip_angle`` times ``slip_factor`` (a channel diagnosis
+    passes its slip ratio in percent, :mod:`tyrefit.diagnose.channels`).
     """
     d = diagnosis.data
     fc = facets(d)
@@ -163,7 +166,8 @@ def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24
             ax = axes[r, col]
             used[r, col] = True
             im = ax.imshow(grids[i][j], aspect="auto", origin="lower", cmap="RdBu_r", vmin=-vmax, vmax=vmax,
-                           extent=(edges[0] / _DEG, edges[-1] / _DEG, -0.5, nl - 0.5), interpolation="nearest")
+                           extent=(edges[0] * slip_factor, edges[-1] * slip_factor, -0.5, nl - 0.5),
+                           interpolation="nearest")
             ax.set_yticks(range(nl), [f"{v / 1e3:.1f}" for v in d.levels["fz"]], fontsize=9)
             ax.tick_params(axis="x", labelsize=9)
             if r % rows_per_p == 0 or rows_per_p > 1:
@@ -178,10 +182,10 @@ def plot_residual_maps(diagnosis, steps=(0, -1), fig=None, n_slip_bins: int = 24
         for ax in axes[~used]:
             ax.set_visible(False)
         for ax in axes[-1]:
-            ax.set_xlabel("slip angle [deg]", fontsize=10)
+            ax.set_xlabel(slip_label, fontsize=10)
         sub.suptitle(name, fontsize=12, fontweight="bold")
         cb = sub.colorbar(im, ax=axes, shrink=0.8)  # the same scale in every block
-        cb.set_label("mean residual model - data [N]", fontsize=10)
+        cb.set_label(f"mean residual model - data [{unit}]", fontsize=10)
     return fig
 
 

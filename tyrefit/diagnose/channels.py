@@ -1,0 +1,683 @@
+"""Diagnosis of the aligning moment Mz and the longitudinal force Fx.
+
+The lateral diagnosis (:mod:`tyrefit.diagnose.engine`) looks at Fy.  A rig record usually
+carries more: every cornering sweep of an FSAE TTC file has Mz, and its drive/brake sweeps
+have Fx against slip ratio.  What the model misses there matters as much (steering torque,
+braking and traction), so each channel present gets its own diagnosis with its own
+catalogue (:mod:`tyrefit.effects.channels`):
+
+1. **Data.**  Mz comes from the cornering sweeps the lateral diagnosis reads (the same
+   sweeps, levels and thinning, :func:`~tyrefit.diagnose.data.prepare`); Fx from the
+   drive/brake sweeps at zero slip angle (slip ratio swept by >= ``KAPPA_SWEPT``, slip
+   angle within ``ALPHA_PURE`` of zero).  Combined-slip sweeps stay out: PAC89 has no
+   combined slip.
+2. **Start model.**  The channel's PAC89 part with the shape factor, one peak
+   coefficient, the stiffness load law and a constant curvature
+   (:data:`~tyrefit.effects.channels.START`), fitted by least squares on the channel in
+   N or N*m, every point alike (the statistics below are point-wise).
+3. **Forward selection on held-out sweeps.**  Every testable catalogue effect is added in
+   turn and refitted; whole sweeps are held out (each in turn up to
+   :attr:`ChannelSettings.loso_max_sweeps`, else ``folds`` groups of sweeps) and
+   predicted by the fit to the others.  The best candidate is accepted when
+
+   * its held-out RMSE is lower by at least ``margin`` x the noise floor and 1 % of the
+     current held-out RMSE (a practical difference, not only a significant one);
+   * it lowers the held-out error in at least half of the held-out sweeps (one sweep
+     that happens to suit it is not evidence);
+   * a nested F test on all the data, with the error variance inflated by
+     (1 + rho) / (1 - rho) for the lag-one correlation rho of the noise along the
+     sweeps (:class:`~tyrefit.fitting.noise.LagOneNoise`, read from the richest model's
+     residuals) and the error degrees of freedom shrunk to the effective sample size
+     n (1 - rho) / (1 + rho), or a paired t test over the held-out sweeps (independent
+     whatever the noise does along a sweep), gives p < ``alpha / 2``: correlated rig
+     noise along a sweep does not pass for an effect;
+   * a refinement (:attr:`~tyrefit.effects.base.Effect.refinement`) only refines a
+     family that has already been accepted.
+
+   Repeat until nothing passes.
+4. **What is left.**  The final held-out RMSE against the within-sweep noise floor
+   (:func:`tyrefit.fitting.noise.noise_floor`: a smooth spline through each sweep), with
+   the plain-words verdict of :func:`_verdict`.
+
+The result, :class:`ChannelDiagnosis`, gives the JSON of the DESIGN contract's
+``channels`` entry (``accepted``, ``steps``, ``noise_floor``, ``unexplained``).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from ..effects.base import Effect, ModelInputs
+from ..effects.channels import CHANNEL_EFFECTS, CHANNELS, PAC89_COEFFICIENT, START
+from ..errors import DataError
+from ..fitting._blas import single_threaded_blas
+from ..fitting.core import Parameters, solve
+from ..fitting.noise import LagOneNoise, noise_floor
+from ..models import pac89
+from .data import SweepData, prepare, segments
+
+__all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
+           "diagnose_channels", "predict", "nested_p", "sweep_p", "factor_levels", "KAPPA_SWEPT", "ALPHA_PURE"]
+
+_DEG = np.pi / 180.0
+#: a drive/brake sweep spans at least this slip ratio (2-98 % quantiles)
+KAPPA_SWEPT = 0.05
+#: ... at a slip angle within this of zero [rad] (a pure longitudinal sweep)
+ALPHA_PURE = 0.5 * _DEG
+#: the knot spacing of the noise floor's smooth curve, in the channel's slip unit
+_FLOOR_SPACING = {"mz": 1.5 * _DEG, "fx": 0.02}
+
+
+@dataclass(frozen=True)
+class ChannelSettings:
+    """Settings of a channel diagnosis.
+
+    alpha : level of the nested F test (with the correlation correction).
+    margin : practical margin, as a fraction of the noise floor, by which a candidate must lower the held-out RMSE.
+    min_sweeps_improved : share of held-out sweeps whose error a candidate must lower.
+    loso_max_sweeps : up to this many sweeps every sweep is held out in turn; more are grouped in ``folds``.
+    folds : sweep groups held out in turn with more sweeps.
+    max_rounds : most effects added.
+    """
+
+    alpha: float = 0.05
+    margin: float = 0.03
+    min_sweeps_improved: float = 0.5
+    loso_max_sweeps: int = 16
+    folds: int = 8
+    max_rounds: int = 8
+
+
+@dataclass
+class ChannelData:
+    """One channel's sweeps: the slip, the measured channel and the conditions of every point.
+
+    ``sweeps`` is the :class:`~tyrefit.diagnose.data.SweepData` of the channel (its ``fy`` holds the channel's
+    values, its ``inputs.slip_angle`` the channel's slip: slip angle [rad] for Mz, slip ratio [-] for Fx).
+    """
+
+    channel: str
+    sweeps: SweepData
+    #: per point: its sweep, held out, lies inside the condition levels of the rest (set by the diagnosis)
+    interior: np.ndarray | None = None
+
+    @property
+    def y(self) -> np.ndarray:
+        return self.sweeps.fy
+
+    @property
+    def slip(self) -> np.ndarray:
+        return self.sweeps.inputs.slip_angle
+
+    @property
+    def inputs(self) -> ModelInputs:
+        return self.sweeps.inputs
+
+    @property
+    def sweep(self) -> np.ndarray:
+        return self.sweeps.sweep
+
+    @property
+    def n_sweeps(self) -> int:
+        return self.sweeps.n_sweeps
+
+    @property
+    def unit(self) -> str:
+        return CHANNELS[self.channel][1]
+
+
+@dataclass
+class ChannelStep:
+    """One model of the selection: effects, fitted values, and its errors on all and on held-out sweeps."""
+
+    effects: list[str]
+    added: str | None
+    values: dict[str, float]
+    rmse: float
+    rmse_heldout: float
+    resid: np.ndarray = field(repr=False)
+    resid_heldout: np.ndarray = field(repr=False)
+    n_params: int = 0
+    #: RMSE of the held-out sweeps outside the levels the rest was fitted on (extrapolation), NaN if none
+    rmse_extrapolated: float = float("nan")
+
+
+@dataclass
+class ChannelDiagnosis:
+    """What a channel's model misses: the steps, the evidence for every candidate, what is left."""
+
+    channel: str
+    data: ChannelData
+    start: list[str]
+    accepted: list[str]
+    steps: list[ChannelStep]
+    candidates: list[dict]
+    noise_floor: float
+    unexplained: dict
+    pac89: dict
+    seconds: float = float("nan")
+    #: the accepted effects in words and sizes (:func:`effect_sizes`, computed on first use)
+    sizes: list | None = None
+
+    @property
+    def unit(self) -> str:
+        return self.data.unit
+
+    def to_dict(self) -> dict:
+        """The ``channels`` entry of ``diagnose --json`` (DESIGN contract)."""
+        sd = self.data.sweeps
+        return {
+            "unit": self.unit,
+            "start": list(self.start),
+            "accepted": list(self.accepted),
+            "noise_floor": float(self.noise_floor),
+            "steps": [{"effects": list(s.effects), "rmse": float(s.rmse), "rmse_heldout": float(s.rmse_heldout),
+                       "rmse_extrapolated": None if not np.isfinite(s.rmse_extrapolated) else float(s.rmse_extrapolated),
+                       "added": s.added} for s in self.steps],
+            "candidates": [dict(c) for c in self.candidates],
+            "unexplained": dict(self.unexplained),
+            "pac89": dict(self.pac89),
+            "effects": effect_sizes(self),
+            "data": {"points": int(sd.n), "sweeps": int(sd.n_sweeps),
+                     "fz": [float(v) for v in sd.levels["fz"]],
+                     "camber_deg": [float(np.degrees(v)) for v in sd.levels["camber"]],
+                     **({"pressure": [float(v) for v in sd.levels["pressure"]]} if "pressure" in sd.levels else {}),
+                     "notes": list(sd.notes)},
+            "seconds": float(self.seconds),
+        }
+
+    def summary(self) -> str:
+        """A few lines for the terminal."""
+        u = self.unit
+        out = [f"{self.channel}: noise floor {self.noise_floor:.3g} {u}"]
+        for s in self.steps:
+            out.append(f"  {'+ ' + s.added if s.added else 'start':<28} RMSE {s.rmse:8.3g} {u}   "
+                       f"held-out {s.rmse_heldout:8.3g} {u}")
+        out.append(f"  accepted: {', '.join(self.accepted) or 'nothing beyond the start model'}")
+        out.append("  " + self.unexplained.get("summary", ""))
+        return "\n".join(out)
+
+
+# ----------------------------------------------------------------------------------- data
+def _frame_of(data) -> tuple[pd.DataFrame, str, dict]:
+    if isinstance(data, pd.DataFrame):
+        return data, "DataFrame", {}
+    return data.df, str(getattr(data, "source", "")), dict(getattr(data, "meta", {}) or {})
+
+
+def channel_data(data, channel: str, rated_load: float | None = None) -> ChannelData | str:
+    """The sweeps of ``channel`` in ``data`` (a Dataset or a canonical DataFrame), or why there are none.
+
+    Mz: the cornering sweeps that carry ``mz`` (combined-slip and drive/brake segments left out, as the
+    lateral diagnosis does).  Fx: the drive/brake sweeps at zero slip angle (see the module docstring).
+    """
+    if channel not in CHANNELS:
+        raise DataError(f"channel={channel!r}: one of {', '.join(CHANNELS)}")
+    df, source, meta = _frame_of(data)
+    rated = rated_load if rated_load is not None else meta.get("rated_load")
+    keep = [c for c in ("run", "camber", "pressure", "speed", "load") if c in df.columns]
+    if channel == "mz":
+        need = ("mz", "slip_angle", "fz")
+        if any(c not in df.columns for c in need) or df["mz"].notna().sum() < 20:
+            return "no aligning moment (mz) in the record"
+        cols = ["slip_angle", "fz"] + keep + (["slip_ratio"] if "slip_ratio" in df.columns else [])
+        frame = df[cols].assign(fy=df["mz"])
+        if frame.dropna(subset=["slip_angle", "fz", "fy"]).empty:
+            return "no aligning moment (mz) in the record"
+    else:
+        need = ("fx", "slip_ratio", "fz")
+        if any(c not in df.columns for c in need) or df["fx"].notna().sum() < 20:
+            return "no drive/brake sweeps (fx against slip_ratio) in the record"
+        frame = _pure_longitudinal(df, keep)
+        if frame is None:
+            return "no drive/brake sweeps at zero slip angle (slip ratio swept by >= 0.05) in the record"
+    try:
+        sd = prepare(frame, rated_load=rated)
+    except DataError as e:
+        return str(e).split(": ", 1)[-1]
+    sd.source = source
+    return ChannelData(channel, sd)
+
+
+def _pure_longitudinal(df: pd.DataFrame, keep: list[str]) -> pd.DataFrame | None:
+    """Points of the drive/brake sweeps at zero slip angle, as a frame ``prepare`` reads (slip ratio as the slip)."""
+    cols = ["fx", "slip_ratio", "fz"] + (["slip_angle"] if "slip_angle" in df.columns else []) + keep
+    d = df[cols].apply(pd.to_numeric, errors="coerce")
+    d = d[d[["fx", "slip_ratio", "fz"]].notna().all(axis=1) & (d["fz"] > 0)].reset_index(drop=True)
+    if len(d) < 20:
+        return None
+    _, _, _, seg = segments(d)
+    kap = d["slip_ratio"].to_numpy(float)
+    sa = d["slip_angle"].fillna(0.0).to_numpy(float) if "slip_angle" in d.columns else np.zeros(len(d))
+    take = np.zeros(len(d), dtype=bool)
+    for k in np.unique(seg):
+        m = seg == k
+        if m.sum() < 8:
+            continue
+        lo, hi = np.percentile(kap[m], [2, 98])
+        if hi - lo >= KAPPA_SWEPT and abs(float(np.median(sa[m]))) < ALPHA_PURE:
+            take[m] = True
+    if take.sum() < 20:
+        return None
+    out = d[take].drop(columns=[c for c in ("slip_angle", "run") if c in d.columns])
+    return out.assign(slip_angle=kap[take], fy=d["fx"].to_numpy(float)[take], run=seg[take]).drop(columns="fx")
+
+
+# ---------------------------------------------------------------------------------- model
+def _part(channel: str) -> tuple[str, ...]:
+    return pac89.ALIGNING if channel == "mz" else pac89.LONGITUDINAL
+
+
+def predict(channel: str, values: dict, effects: list[Effect], x: ModelInputs) -> np.ndarray:
+    """The channel (Mz [N*m] or Fx [N], ISO-W) of the PAC89 part plus ``effects`` at the inputs ``x``.
+
+    ``x.slip_angle`` holds the channel's slip (slip angle [rad] for Mz, slip ratio for Fx).
+    """
+    coef = {k: values.get(k, 0.0) for k in _part(channel)}
+    for e in effects:
+        if e.apply is not None:
+            e.apply(coef, {p.name: values.get(p.name, p.neutral) for p in e.params}, x)
+    sv = coef.pop("sv", 0.0)
+    if channel == "mz":
+        return pac89.aligning_moment(coef, x.fz, x.slip_angle, x.camber)
+    return pac89.longitudinal_force(coef, x.fz, x.slip_angle) + sv
+
+
+def _start_values(cd: ChannelData) -> dict[str, float]:
+    """Start values of the start model from the sweeps: the peak and the small-slip slope per kN.
+
+    PAC89 units and signs: Mz_pac = -Mz (ISO-W), slip angle in deg; Fx in N, slip ratio in %.
+    """
+    sd = cd.sweeps
+    x, y, fzk = sd.inputs.slip_angle, cd.y, sd.inputs.fz * 1e-3
+    if cd.channel == "mz":
+        xs, ys, small = x / _DEG, -y, 1.5
+    else:
+        xs, ys, small = x * 100.0, y, 2.0
+    peaks, slopes = [], []
+    for g in range(sd.n_sweeps):
+        m = sd.sweep == g
+        fk = float(np.median(fzk[m]))
+        pos = m & (xs > 0)
+        if pos.sum() >= 3:
+            i = np.argmax(np.abs(ys[pos]))
+            peaks.append(ys[pos][i] / fk)
+        near = m & (np.abs(xs) < small)
+        if near.sum() >= 4 and np.ptp(xs[near]) > 0:
+            slopes.append(np.polyfit(xs[near], ys[near], 1)[0] / fk)
+    d = float(np.median(peaks)) if peaks else (1.0 if cd.channel == "mz" else 1000.0)
+    k = float(np.median(slopes)) if slopes else 5.0 * d
+    if cd.channel == "mz":
+        return {"c0": 2.3, "c2": d if abs(d) > 1e-6 else 1.0, "c4": k if abs(k) > 1e-6 else d, "c5": 0.0, "c9": -1.0}
+    return {"b0": 1.65, "b2": min(max(d, 60.0), 3400.0), "b4": max(k, 1.0), "b5": 0.0, "b8": 0.0}
+
+
+class _Model:
+    """A channel model: its effects and parameters (start model + effects), fitted by :func:`fit`."""
+
+    def __init__(self, cd: ChannelData, effects: list[Effect], fixed: dict[str, float]):
+        self.cd = cd
+        self.effects = list(effects)
+        names = [n for n in START[cd.channel] if n not in fixed]
+        for e in self.effects:
+            names += [p.name for p in e.params if p.name not in names and p.name not in fixed]
+        self.names = names
+        self.fixed = dict(fixed)
+        self.defs = {p.name: p for e in self.effects for p in e.params}
+        self.defs.update({k: v for k, v in PAC89_COEFFICIENT.items() if k in names and k not in self.defs})
+
+    def parameters(self, values: dict[str, float]) -> Parameters:
+        out = Parameters()
+        for k in self.names:
+            p = self.defs[k]
+            v = float(values.get(k, p.neutral))
+            lo, hi = p.bounds
+            out.add(k, float(np.clip(v, lo, hi)), min=lo, max=hi, scale=p.scale)
+        for k, v in self.fixed.items():
+            out.add(k, float(v), vary=False)
+        return out
+
+    def fit(self, idx: np.ndarray, start: dict[str, float], multistart: bool = False) -> dict[str, float]:
+        """Least-squares values on the points ``idx`` from ``start`` (and the C-E valley's other ends)."""
+        x = self.cd.inputs.take(idx)
+        y = self.cd.y[idx]
+        params = self.parameters(start)
+        ch = self.cd.channel
+
+        def resid(theta):
+            return predict(ch, params.values_of(theta), self.effects, x) - y
+
+        starts = None
+        if multistart:
+            c, e = ("c0", "c9") if ch == "mz" else ("b0", "b8")
+            base = params.valuesdict()
+            starts = [base, {**base, c: 1.5, e: 0.0}, {**base, c: 3.0 if ch == "mz" else 1.9, e: 0.5},
+                      {**base, c: 1.2, e: -2.0}]
+        sol = solve(resid, params, method="trf", x_scale="params", starts=starts, nonfinite="penalise",
+                    stderr=False, what=f"{ch} channel fit", max_nfev=400)
+        return sol.values
+
+    def residual(self, values: dict[str, float], idx: np.ndarray | None = None) -> np.ndarray:
+        x = self.cd.inputs if idx is None else self.cd.inputs.take(idx)
+        y = self.cd.y if idx is None else self.cd.y[idx]
+        return predict(self.cd.channel, values, self.effects, x) - y
+
+
+def _folds(cd: ChannelData, s: ChannelSettings, seed: int) -> list[np.ndarray]:
+    """Sweep groups held out in turn: each sweep up to ``loso_max_sweeps``, else ``folds`` shuffled groups."""
+    G = cd.n_sweeps
+    if G <= s.loso_max_sweeps:
+        return [np.array([g]) for g in range(G)]
+    order = np.random.default_rng(seed).permutation(G)
+    return [np.sort(order[k::s.folds]) for k in range(s.folds)]
+
+
+def _interior(cd: ChannelData, folds) -> np.ndarray:
+    """Points of held-out sweeps whose every condition level lies inside the levels the rest was fitted on.
+
+    With one sweep per load, holding out the lightest or heaviest load asks the model to extrapolate the
+    load laws; such sweeps are an extrapolation test, not the held-out evidence (as in the lateral
+    diagnosis' ``rmse_extrapolated``).
+    """
+    sd = cd.sweeps
+    out = np.zeros(len(cd.y), dtype=bool)
+    lv = {f: sd.sweep_level(f) for f in sd.levels}
+    for held in folds:
+        train = np.setdiff1d(np.arange(sd.n_sweeps), held)
+        if not len(train):
+            continue
+        ok = np.ones(len(held), dtype=bool)
+        for f, v in lv.items():
+            ok &= (v[held] >= v[train].min()) & (v[held] <= v[train].max())
+        out |= np.isin(cd.sweep, held[ok])
+    return out
+
+
+def _evaluate(cd: ChannelData, effects: list[Effect], fixed: dict, start: dict, folds, added: str | None,
+              multistart: bool = False) -> ChannelStep:
+    model = _Model(cd, effects, fixed)
+    allidx = np.arange(len(cd.y))
+    values = model.fit(allidx, start, multistart=multistart)
+    r = model.residual(values)
+    rh = np.full(len(cd.y), np.nan)
+    for held in folds:
+        test = np.isin(cd.sweep, held)
+        if test.all():
+            continue
+        v = model.fit(np.flatnonzero(~test), values)
+        rh[test] = model.residual(v, np.flatnonzero(test))
+    inner = np.isfinite(rh) & cd.interior
+    ok = inner if inner.any() else np.isfinite(rh)
+    outer = np.isfinite(rh) & ~cd.interior
+    return ChannelStep([e.id for e in effects], added, values, float(np.sqrt(np.mean(r * r))),
+                       float(np.sqrt(np.mean(rh[ok] ** 2))) if ok.any() else float("nan"), r, rh,
+                       n_params=len(model.names),
+                       rmse_extrapolated=float(np.sqrt(np.mean(rh[outer] ** 2))) if outer.any() else float("nan"))
+
+
+def nested_p(r0: np.ndarray, r1: np.ndarray, q: int, p1: int, rho: float) -> float:
+    """p-value of the nested F test of a model with ``q`` more parameters (``p1`` in all), under AR(1) noise.
+
+    With noise correlated along a sweep (lag-one ``rho``, :class:`tyrefit.fitting.noise.LagOneNoise`), a
+    smooth direction removes about (1 + rho) / (1 - rho) times the variance it would under independent
+    noise, and the sample holds about n (1 - rho) / (1 + rho) independent values; both corrections apply.
+    """
+    n = len(r1)
+    infl = (1.0 + rho) / (1.0 - rho)
+    dof = max(n / infl - p1, 1.0)
+    ssr0, ssr1 = float(np.sum(r0 * r0)), float(np.sum(r1 * r1))
+    if ssr1 <= 0:
+        return 0.0 if ssr0 > 0 else 1.0
+    F = ((ssr0 - ssr1) / q) / (ssr1 / max(n - p1, 1) * infl)
+    return float(stats.f.sf(F, q, dof)) if F > 0 else 1.0
+
+
+def _per_sweep_sse(rh: np.ndarray, sweep: np.ndarray) -> np.ndarray:
+    ok = np.isfinite(rh)
+    return np.bincount(sweep[ok], weights=rh[ok] ** 2, minlength=int(sweep.max()) + 1)
+
+
+def _verdict(ratio: float, floor: float, unit: str) -> tuple[bool, str]:
+    """Plain words for the final held-out RMSE against the noise floor (ratio = RMSE / floor)."""
+    if not np.isfinite(ratio):
+        return False, "the noise floor could not be estimated (sweeps too short)"
+    if ratio <= 1.25:
+        return False, (f"nothing missing: the held-out error is {ratio:.2f} x the within-sweep noise floor "
+                       f"({floor:.3g} {unit})")
+    if ratio <= 1.5:
+        return False, (f"close to the noise floor ({ratio:.2f} x {floor:.3g} {unit}); what is left is as likely "
+                       "rig drift between sweeps as a missing effect - repeat a sweep to tell them apart")
+    return True, (f"structure remains: the held-out error is {ratio:.2f} x the within-sweep noise floor "
+                  f"({floor:.3g} {unit}) and no catalogue effect the data can test takes it away")
+
+
+_FORM = {"mz": ("PAC89's aligning part is one Magic Formula curve for the whole moment; Magic Formula 5.2/6.1 build "
+                "Mz as a pneumatic trail (a cosine-form curve that falls to zero as the patch slides) times Fy, "
+                "plus a residual torque (Pacejka 2012, Eq. 4.E31-4.E33), a shape the single curve cannot follow "
+                "at every load: fit `tyrefit fit ... --model mf61`"),
+         "fx": ("PAC89's longitudinal part has one curvature for drive and braking, no vertical shift and no "
+                "camber or pressure terms; Magic Formula 6.1 has them (Pacejka 2012, Eq. 4.E9-4.E18): fit "
+                "`tyrefit fit ... --model mf61`")}
+
+
+def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, seed: int = 0) -> ChannelDiagnosis:
+    """Forward selection of ``cd.channel``'s catalogue effects on held-out sweeps (see the module docstring)."""
+    t0 = time.perf_counter()
+    s = settings or ChannelSettings()
+    ch = cd.channel
+    summary = cd.sweeps.summary
+    fixed = {}
+    if len(summary.fz_levels) < 2:
+        fixed[START[ch][3]] = 0.0  # c5 / b5: the stiffness's load law needs two loads
+    floor, _ = noise_floor(cd.slip, cd.y, cd.sweep, spacing_deg=_FLOOR_SPACING[ch] / _DEG, fz=cd.inputs.fz)
+    rho_of = LagOneNoise(cd.slip, cd.sweep, seed=seed)
+    folds = _folds(cd, s, seed)
+    cd.interior = _interior(cd, folds)
+    catalogue = CHANNEL_EFFECTS[ch]
+    testable = {eid: e.why_not_testable(summary) for eid, e in catalogue.items()}
+    for eid, e in catalogue.items():
+        if testable[eid] is None and any(p.name in fixed for p in e.params):
+            testable[eid] = "needs >= 2 load levels"
+    with single_threaded_blas():
+        cur = _evaluate(cd, [], fixed, _start_values(cd), folds, None, multistart=True)
+        steps = [cur]
+        accepted: list[str] = []
+        evidence: dict[str, dict] = {}
+        # the noise's correlation along the sweeps, read from the residuals of the richest model the data can
+        # test (every testable effect at once): a missing effect must not pass for correlated noise, nor
+        # correlated noise for a missing effect
+        rich = [e for eid, e in catalogue.items() if testable[eid] is None]
+        rich = [e for e in rich if not any(_contained(e, f) and e is not f for f in rich)]
+        try:
+            m_rich = _Model(cd, rich, fixed)
+            rho = rho_of(m_rich.residual(m_rich.fit(np.arange(len(cd.y)), cur.values)))
+        except Exception:  # noqa: BLE001 - the richest model may not fit; the start model's residuals then
+            rho = rho_of(cur.resid)
+        for rnd in range(1, s.max_rounds + 1):
+            have = set(cur.effects)
+            fams = {catalogue[e].family for e in have}
+            best = None
+            for eid, e in catalogue.items():
+                if eid in have or testable[eid] is not None:
+                    continue
+                if e.refinement and e.family not in fams:
+                    evidence.setdefault(eid, {"status": "not tested",
+                                              "reason": f"refines {e.family}, which was not accepted"})
+                    continue
+                if not e.refinement and e.family in fams:
+                    continue
+                effs = [catalogue[k] for k in cur.effects if not _contained(catalogue[k], e)] + [e]
+                try:
+                    st = _evaluate(cd, effs, fixed, cur.values, folds, eid)
+                except Exception as exc:  # noqa: BLE001 - a candidate whose fit fails is not evidence
+                    evidence[eid] = {"status": "fit failed", "reason": str(exc)[:200]}
+                    continue
+                ev = _evidence(cur, st, cd, floor, rho, s)
+                ev["round"] = rnd
+                evidence[eid] = ev
+                if ev["status"] == "passed" and (best is None or ev["delta_heldout"] > best[1]["delta_heldout"]):
+                    best = (st, ev)
+            if best is None:
+                break
+            st, ev = best
+            ev["status"] = "accepted"
+            accepted.append(st.added)
+            cur = st
+            steps.append(cur)
+            for k, v in evidence.items():  # candidates of this round that lost are re-tested next round
+                if v.get("status") == "passed":
+                    v["status"] = "passed, not the best"
+    for eid, why in testable.items():
+        if why is not None:
+            evidence[eid] = {"status": "not testable", "reason": why}
+    unit = cd.unit
+    ratio = cur.rmse_heldout / floor if floor > 0 else float("nan")
+    found, text = _verdict(ratio, floor, unit)
+    if found:
+        text += ". The model form is the likely limit: " + _FORM[ch]
+    unexplained = {"structure_found": bool(found), "summary": text, "ratio_to_floor": float(ratio),
+                   "noise_lag_one_correlation": rho}
+    cands = [{"effect": eid, "family": catalogue[eid].family, **_clean(evidence.get(eid, {"status": "not tested"}))}
+             for eid in catalogue]
+    return ChannelDiagnosis(ch, cd, [], accepted, steps, cands, float(floor), unexplained,
+                            _pac89_export(cd, cur, fixed), seconds=time.perf_counter() - t0)
+
+
+def _contained(old: Effect, new: Effect) -> bool:
+    """A same-family variant whose parameters ``new`` contains is replaced by it."""
+    return old.family == new.family and set(old.param_names) <= set(new.param_names)
+
+
+def sweep_p(d: np.ndarray) -> float:
+    """One-sided p-value that the per-sweep held-out error falls (paired t test over >= 3 sweeps, else 1).
+
+    Whole sweeps are held out, so the per-sweep differences are independent whatever the noise does
+    along a sweep: this test stays valid when the residuals carry a misfit the model form cannot follow
+    (which inflates the correlation the F test corrects for).
+    """
+    d = np.asarray(d, float)
+    if len(d) < 3:
+        return 1.0
+    sd = float(np.std(d, ddof=1))
+    if sd == 0.0:
+        return 0.0 if np.mean(d) > 0 else 1.0
+    t = float(np.mean(d)) / (sd / np.sqrt(len(d)))
+    return float(stats.t.sf(t, len(d) - 1))
+
+
+def _evidence(cur: ChannelStep, st: ChannelStep, cd: ChannelData, floor: float, rho: float,
+              s: ChannelSettings) -> dict:
+    """Whether ``st`` (the current model plus one effect) passes the acceptance rules of the module docstring.
+
+    Two tests, each at ``alpha / 2`` (so that either passing keeps the level at ``alpha``): the nested F
+    test corrected for the noise's correlation along the sweeps, and the paired test over held-out sweeps.
+    """
+    delta = cur.rmse_heldout - st.rmse_heldout
+    need = max(s.margin * floor, 0.01 * cur.rmse_heldout)
+    a, b = _per_sweep_sse(cur.resid_heldout, cd.sweep), _per_sweep_sse(st.resid_heldout, cd.sweep)
+    held = a > 0
+    inner = np.zeros_like(held)
+    inner[np.unique(cd.sweep[cd.interior])] = True
+    if (held & inner).any():
+        held &= inner
+    share = float(np.mean(b[held] < a[held])) if held.any() else 0.0
+    q = max(st.n_params - cur.n_params, 1)
+    p_f = nested_p(cur.resid, st.resid, q, st.n_params, rho)
+    p_s = sweep_p(a[held] - b[held])
+    p = min(p_f, p_s)
+    why = []
+    if not delta >= need:
+        why.append(f"held-out gain {delta:.3g} below the margin {need:.3g} {cd.unit}")
+    if not share >= s.min_sweeps_improved:
+        why.append(f"better on {100 * share:.0f} % of the held-out sweeps (needs {100 * s.min_sweeps_improved:.0f} %)")
+    if not p < s.alpha / 2:
+        why.append(f"neither the F test (p = {p_f:.3g}, noise correlation {rho:.2f}) nor the held-out sweeps "
+                   f"(p = {p_s:.3g}) below {s.alpha / 2:g}")
+    return {"status": "passed" if not why else "rejected", "delta_heldout": float(delta),
+            "rmse_heldout": float(st.rmse_heldout), "sweeps_improved": share, "p_value": p,
+            "p_f": p_f, "p_sweeps": p_s, "reason": "; ".join(why)}
+
+
+def _clean(ev: dict) -> dict:
+    return {k: (float(v) if isinstance(v, (np.floating,)) else v) for k, v in ev.items()}
+
+
+def _pac89_export(cd: ChannelData, final: ChannelStep, fixed: dict) -> dict:
+    """The final model refitted with only what a PAC89 part can hold (its coefficients and RMSE)."""
+    cat = CHANNEL_EFFECTS[cd.channel]
+    keep = [cat[e] for e in final.effects if cat[e].representable]
+    dropped = [e for e in final.effects if not cat[e].representable]
+    if dropped:
+        st = _Model(cd, keep, fixed)
+        values = st.fit(np.arange(len(cd.y)), final.values)
+        r = st.residual(values)
+    else:
+        values, r = final.values, final.resid
+    coef = {k: float(values.get(k, fixed.get(k, 0.0))) for k in _part(cd.channel)}
+    return {"effects": [e.id for e in keep], "left_out": dropped,
+            "notes": [cat[e].pac89_note for e in dropped], "coefficients": coef,
+            "rmse": float(np.sqrt(np.mean(r * r)))}
+
+
+def diagnose_channels(data, rated_load: float | None = None, seed: int = 0,
+                      settings: ChannelSettings | None = None) -> tuple[dict[str, ChannelDiagnosis], dict[str, str]]:
+    """Diagnose every channel beyond Fy that ``data`` carries; returns (diagnoses, why a channel is absent)."""
+    out, absent = {}, {}
+    for ch in CHANNELS:
+        cd = channel_data(data, ch, rated_load=rated_load)
+        if isinstance(cd, str):
+            absent[ch] = cd
+            continue
+        out[ch] = diagnose_channel(cd, settings, seed=seed)
+    return out, absent
+
+
+def factor_levels(cd: ChannelData, factor: str) -> np.ndarray:
+    """Level value of ``factor`` (a key of :data:`~tyrefit.diagnose.data.FACTORS`) at every point."""
+    sd = cd.sweeps
+    if factor not in sd.levels:
+        return np.zeros(len(cd.y))
+    return sd.levels[factor][sd.level_index[factor]]
+
+
+
+
+def effect_sizes(chd: ChannelDiagnosis) -> list[dict]:
+    """Each accepted effect in plain words: its size in the channel's unit and the coefficients it sets.
+
+    The size is what the final model changes by when the effect is left out and the rest refitted
+    (RMS and largest change over the measured points): the part of the measured behaviour only that
+    effect carries.  Computed once per diagnosis (one refit per accepted effect).
+    """
+    if chd.sizes is not None:
+        return chd.sizes
+    cd = chd.data
+    cat = CHANNEL_EFFECTS[chd.channel]
+    final = chd.steps[-1]
+    effs = [cat[e] for e in final.effects]
+    full = predict(chd.channel, final.values, effs, cd.inputs)
+    fixed = {k: 0.0 for k in START[chd.channel] if k not in final.values}
+    out = []
+    for eid in final.effects:
+        e = cat[eid]
+        rest = [f for f in effs if f is not e]
+        model = _Model(cd, rest, fixed)
+        start = {k: v for k, v in final.values.items() if k not in e.param_names}
+        try:
+            without = predict(chd.channel, model.fit(np.arange(len(cd.y)), start), rest, cd.inputs)
+        except Exception:  # noqa: BLE001 - a refit that fails leaves the size unknown, not the report
+            without = np.full(len(cd.y), np.nan)
+        d = full - without
+        out.append({"effect": eid, "title": e.title, "family": e.family,
+                    "size_rms": float(np.sqrt(np.mean(d * d))), "size_max": float(np.max(np.abs(d))),
+                    "unit": chd.unit, "coefficients": {p.name: float(final.values.get(p.name, p.neutral))
+                                                       for p in e.params},
+                    "pac89": list(e.pac89), "pac89_note": e.pac89_note, "what": e.card.what,
+                    "sources": list(e.card.sources)})
+    chd.sizes = out
+    return out
