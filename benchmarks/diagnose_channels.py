@@ -139,6 +139,7 @@ def run_case(args) -> dict:
                testable={c["family"] for c in dg.candidates if c["status"] != "not testable"},
                rmse_heldout=dg.steps[-1].rmse_heldout, sd_true=sd_true,
                structure_found=bool(dg.unexplained["structure_found"]), ratio=dg.unexplained["ratio_to_floor"],
+               verdict=dg.unexplained["verdict"],
                seconds=dg.seconds)
     row["named"] = sorted(row["named"])
     row["testable"] = sorted(row["testable"])
@@ -198,9 +199,10 @@ def rates(rows: list[dict]) -> dict:
             tot[fam][kk][0] += v[kk][0]
             tot[fam][kk][1] += v[kk][1]
     out["by_family"] = dict(tot)
-    nothing = [r for r in ok if not r["structure_found"] and r["ratio"] <= 1.25]
+    nothing = [r for r in ok if r["verdict"] == "nothing"]
     out["nothing_missing_above_1p5_sigma"] = [sum(r["rmse_heldout"] > 1.5 * r["sd_true"] for r in nothing),
                                               len(nothing)]
+    out["verdicts"] = {v: sum(r["verdict"] == v for r in ok) for v in ("nothing", "undecided", "structure")}
     return out
 
 
@@ -225,7 +227,7 @@ def main(argv=None) -> int:
         print(f"{fam:<16} {a[0]:>7}/{a[1]:<4} {100 * a[0] / max(a[1], 1):5.1f} %  {b[0]:>5}/{b[1]:<4} "
               f"{100 * b[0] / max(b[1], 1):5.1f} %")
     k, n = res["nothing_missing_above_1p5_sigma"]
-    print(f"'nothing missing' with held-out RMSE > 1.5 sigma: {k}/{n}")
+    print(f"'nothing missing' with held-out RMSE > 1.5 sigma: {k}/{n}; verdicts {res['verdicts']}")
     print("by channel | family | layout | noise: present named, absent named")
     for key, v in res["by_cell"].items():
         print(f"  {key:<62} {v['present_named'][0]}/{v['present_named'][1]}  {v['absent_named'][0]}/{v['absent_named'][1]}")

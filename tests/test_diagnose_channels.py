@@ -175,3 +175,17 @@ def test_pressure_effect_needs_pressures():
     cd = channel_data(df, "mz")
     assert not isinstance(cd, str)
     assert isinstance(channel_data(df, "fx"), str)
+
+
+def test_systematic_share_tells_a_repeated_misfit_from_correlated_noise():
+    """A misfit pattern that repeats over 9 sweeps (scaled with load) reads as systematic; AR(1) noise at
+    rho 0.9, new in every sweep, does not, however large it is."""
+    p, df, dg = _case("fx", None, cambers=(0.0, 2.0, 4.0))
+    from tyrefit.diagnose.channels import SYSTEMATIC, systematic_share
+
+    cd = dg.data
+    rng = np.random.default_rng(2)
+    misfit = 30.0 * np.sin(8 * cd.slip) * cd.inputs.fz / 6752.0
+    noise = np.concatenate([_ar1(rng, int((cd.sweep == g).sum()), 0.9) for g in range(cd.n_sweeps)]) * 40.0
+    assert systematic_share(cd, misfit + 0.3 * noise) > SYSTEMATIC
+    assert systematic_share(cd, noise) < SYSTEMATIC
