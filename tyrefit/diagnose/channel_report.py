@@ -95,7 +95,7 @@ def add_channel_sections(r: Report, dg) -> None:
             r.p("Nothing accepted beyond the start model.")
         r.table([{"effect": c["effect"], "status": c["status"],
                   f"held-out gain [{chd.unit}]": c.get("delta_heldout", "–"),
-                  "sweeps improved": c.get("sweeps_improved", "–"), "p (F, corrected)": c.get("p_value", "–"),
+                  "sweeps improved": c.get("sweeps_improved", "–"), "p (the smaller test)": c.get("p_value", "–"),
                   "why": c.get("reason", "")} for c in chd.candidates], digits=3)
         r.figure(plot_channel_residual_maps(chd), f"Mean residual of {_NAMES[ch]} (model - data) over slip and "
                                                   "load, start model above, final model below.")
