@@ -60,7 +60,7 @@ LAYOUTS = {
 NOISES = {"iid": 0.0, "ar1_08": 0.8, "ar1_09": 0.9}
 SIGMA = 0.01
 #: a group counts as present when its RMS effect on the channel at the case's points is >= this x sigma
-MIN_SIZE = 2.0
+MIN_SIZE = 1.0
 
 
 def truth(name: str) -> dict:

@@ -26,11 +26,12 @@ catalogue (:mod:`tyrefit.effects.channels`):
      that happens to suit it is not evidence);
    * a nested F test on all the data, with the error variance inflated by
      (1 + rho) / (1 - rho) for the lag-one correlation rho of the noise along the
-     sweeps (:class:`~tyrefit.fitting.noise.LagOneNoise`, read from the richest model's
-     residuals) and the error degrees of freedom shrunk to the effective sample size
+     sweeps (:class:`~tyrefit.fitting.noise.LagOneNoise`: its 90 % upper bound, read from
+     the richest model's residuals) and the error degrees of freedom shrunk to the effective sample size
      n (1 - rho) / (1 + rho), or a paired t test over the held-out sweeps (independent
-     whatever the noise does along a sweep), gives p < ``alpha / 2``: correlated rig
-     noise along a sweep does not pass for an effect;
+     whatever the noise does along a sweep), gives p < ``alpha / (2 m)`` for the m
+     candidates of the round: correlated rig noise along a sweep does not pass for an
+     effect, nor does the best of many candidates pass by chance;
    * a refinement (:attr:`~tyrefit.effects.base.Effect.refinement`) only refines a
      family that has already been accepted.
 
@@ -79,10 +80,12 @@ _FLOOR_SPACING = {"mz": 1.5 * _DEG, "fx": 0.02}
 class ChannelSettings:
     """Settings of a channel diagnosis.
 
-    alpha : level of the nested F test (with the correlation correction).
+    alpha : level of a round of the selection: each candidate's two tests run at alpha / (2 m), m the
+        candidates of the round (Bonferroni).
     margin : practical margin, as a fraction of the noise floor, by which a candidate must lower the held-out RMSE.
     min_sweeps_improved : share of held-out sweeps whose error a candidate must lower.
     loso_max_sweeps : up to this many sweeps every sweep is held out in turn; more are grouped in ``folds``.
+    rho_upper : confidence of the upper bound on the noise's lag-one correlation the F test is corrected with.
     folds : sweep groups held out in turn with more sweeps.
     max_rounds : most effects added.
     """
@@ -93,6 +96,7 @@ class ChannelSettings:
     loso_max_sweeps: int = 16
     folds: int = 8
     max_rounds: int = 8
+    rho_upper: float = 0.9
 
 
 @dataclass
@@ -540,7 +544,7 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
     if len(summary.fz_levels) < 2:
         fixed[START[ch][3]] = 0.0  # c5 / b5: the stiffness's load law needs two loads
     floor, _ = noise_floor(cd.slip, cd.y, cd.sweep, spacing_deg=_FLOOR_SPACING[ch] / _DEG, fz=cd.inputs.fz)
-    rho_of = LagOneNoise(cd.slip, cd.sweep, seed=seed)
+    rho_of = LagOneNoise(cd.slip, cd.sweep, seed=seed, upper=s.rho_upper)
     folds = _folds(cd, s, seed)
     cd.interior = _interior(cd, folds)
     catalogue = CHANNEL_EFFECTS[ch]
@@ -567,6 +571,7 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
             have = set(cur.effects)
             fams = {catalogue[e].family for e in have}
             best = None
+            round_steps = {}
             for eid, e in catalogue.items():
                 if eid in have or testable[eid] is not None:
                     continue
@@ -582,7 +587,10 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
                 except Exception as exc:  # noqa: BLE001 - a candidate whose fit fails is not evidence
                     evidence[eid] = {"status": "fit failed", "reason": str(exc)[:200]}
                     continue
-                ev = _evidence(cur, st, cd, floor, rho, s)
+                round_steps[eid] = st
+            level = s.alpha / (2.0 * max(len(round_steps), 1))
+            for eid, st in round_steps.items():
+                ev = _evidence(cur, st, cd, floor, rho, s, level)
                 ev["round"] = rnd
                 evidence[eid] = ev
                 if ev["status"] == "passed" and (best is None or ev["delta_heldout"] > best[1]["delta_heldout"]):
@@ -638,11 +646,12 @@ def sweep_p(d: np.ndarray) -> float:
 
 
 def _evidence(cur: ChannelStep, st: ChannelStep, cd: ChannelData, floor: float, rho: float,
-              s: ChannelSettings) -> dict:
+              s: ChannelSettings, level: float) -> dict:
     """Whether ``st`` (the current model plus one effect) passes the acceptance rules of the module docstring.
 
-    Two tests, each at ``alpha / 2`` (so that either passing keeps the level at ``alpha``): the nested F
-    test corrected for the noise's correlation along the sweeps, and the paired test over held-out sweeps.
+    Two tests, each at ``level`` (alpha / (2 m) for m candidates in the round: either passing keeps the
+    round's family-wise level at alpha): the nested F test corrected for the noise's correlation along
+    the sweeps, and the paired test over held-out sweeps.
     """
     delta = cur.rmse_heldout - st.rmse_heldout
     need = max(s.margin * floor, 0.01 * cur.rmse_heldout)
@@ -662,9 +671,9 @@ def _evidence(cur: ChannelStep, st: ChannelStep, cd: ChannelData, floor: float, 
         why.append(f"held-out gain {delta:.3g} below the margin {need:.3g} {cd.unit}")
     if not share >= s.min_sweeps_improved:
         why.append(f"better on {100 * share:.0f} % of the held-out sweeps (needs {100 * s.min_sweeps_improved:.0f} %)")
-    if not p < s.alpha / 2:
+    if not p < level:
         why.append(f"neither the F test (p = {p_f:.3g}, noise correlation {rho:.2f}) nor the held-out sweeps "
-                   f"(p = {p_s:.3g}) below {s.alpha / 2:g}")
+                   f"(p = {p_s:.3g}) below {level:.3g}")
     return {"status": "passed" if not why else "rejected", "delta_heldout": float(delta),
             "rmse_heldout": float(st.rmse_heldout), "sweeps_improved": share, "p_value": p,
             "p_f": p_f, "p_sweeps": p_s, "reason": "; ".join(why)}

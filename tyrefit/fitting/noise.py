@@ -83,7 +83,10 @@ class LagOneNoise:
     slow noise, so the raw value is low (and negative for independent noise); it is calibrated by
     simulation on the same points: AR(1) noise at each rho of :attr:`GRID` (``draws`` each) gives
     the mean raw value, and the observed one is read back through that curve (a parametric-bootstrap
-    bias correction).  Sweeps shorter than 20 points are not read.
+    bias correction).  With ``upper`` the read-back goes through the curve of the draws' lower
+    ``1 - upper`` quantile instead: the largest rho the observation is still consistent with, an
+    upper confidence bound (few short sweeps estimate rho loosely, and a test corrected with a low
+    estimate passes correlated noise for an effect).  Sweeps shorter than 20 points are not read.
 
     >>> import numpy as np
     >>> x = np.tile(np.linspace(-0.2, 0.2, 60), 4); sweep = np.repeat(np.arange(4), 60)
@@ -94,7 +97,8 @@ class LagOneNoise:
 
     GRID = np.array([0.0, 0.2, 0.4, 0.6, 0.7, 0.8, 0.85, 0.9, 0.95])
 
-    def __init__(self, x, sweep, points_per_function: int = 5, seed: int = 0, draws: int = 12):
+    def __init__(self, x, sweep, points_per_function: int = 5, seed: int = 0, draws: int = 24,
+                 upper: float | None = None):
         x, sw = np.asarray(x, float), np.asarray(sweep)
         self.n = len(x)
         self.projections = []
@@ -107,6 +111,7 @@ class LagOneNoise:
             self.projections.append((m, Q))
         rng = np.random.default_rng(seed)
         curve = []
+        self.upper = upper
         for rho in self.GRID:
             vals = []
             for _ in range(draws):
@@ -114,7 +119,7 @@ class LagOneNoise:
                 for m, _Q in self.projections:  # AR(1) after a burn-in of 60 samples (stationary start)
                     e[m] = lfilter([np.sqrt(1.0 - rho * rho)], [1.0, -rho], rng.standard_normal(len(m) + 60))[60:]
                 vals.append(self.raw(e))
-            curve.append(float(np.mean(vals)))
+            curve.append(float(np.mean(vals) if upper is None else np.quantile(vals, 1.0 - upper)))
         self.curve = np.maximum.accumulate(np.asarray(curve))  # monotone for the read-back
 
     def raw(self, r) -> float:
