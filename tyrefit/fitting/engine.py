@@ -569,10 +569,13 @@ def noise_floor(d: PartData) -> tuple[float, pd.Series]:
 class _Problem:
     """Affine parametrisation theta -> coefficients with box bounds on theta."""
 
-    def __init__(self, d: PartData, base: dict[str, float], vary: Sequence[str], cost: str):
+    def __init__(self, d: PartData, base: dict[str, float], vary: Sequence[str], cost: str,
+                 bounds: Mapping[str, tuple[float, float]] | None = None):
         self.d = d
         self.spec = d.part
         self.names = self.spec.names
+        #: the caller's bounds (fit_pac89's ``bounds``), intersected with the physical ones
+        self.user_bounds = {k: v for k, v in (bounds or {}).items() if k in self.names}
         self.base = {k: float(base.get(k, 0.0)) for k in self.names}
         self.vary = [k for k in self.names if k in set(vary)]
         self.cost = cost
@@ -613,6 +616,12 @@ class _Problem:
             else:  # value = s Fz + i0
                 lo_b = max(lo_b, float(np.max((L - b[i]) / ends)))
                 hi_b = min(hi_b, float(np.min((U - b[i]) / ends)))
+        if k in self.user_bounds:
+            ulo, uhi = self.user_bounds[k]
+            if max(lo_b, ulo) > min(hi_b, uhi):
+                raise DataError(f"the bounds given for {k}, [{ulo:g}, {uhi:g}], are outside its physical range "
+                                f"[{lo_b:g}, {hi_b:g}] on these data")
+            lo_b, hi_b = max(lo_b, ulo), min(hi_b, uhi)
         return lo_b, hi_b
 
     def _laws(self):
@@ -626,8 +635,10 @@ class _Problem:
     def _build(self) -> None:
         nv = len(self.vary)
         idx = {k: j for j, k in enumerate(self.names)}
+        # a law with a bounded member (fit_pac89's ``bounds``) is fitted in its coefficients, each in its box
         pairs = [(s, i, L, U) for s, i, L, U in self._laws()
-                 if s in self.vary and i in self.vary and self.hi - self.lo > 1e-9]
+                 if s in self.vary and i in self.vary and self.hi - self.lo > 1e-9
+                 and s not in self.user_bounds and i not in self.user_bounds]
         paired = {k for s, i, _, _ in pairs for k in (s, i)}
         theta_names, lb, ub, cols = [], [], [], []
         self.offset = np.array([self.base[k] for k in self.names])
@@ -792,7 +803,8 @@ def _starts(spec: PartSpec, c0: dict[str, float]) -> list[dict[str, float]]:
 
 
 def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapping[str, float],
-              initial: Mapping[str, float], notes: list[str]) -> PartFit:
+              initial: Mapping[str, float], notes: list[str],
+              bounds: Mapping[str, tuple[float, float]] | None = None) -> PartFit:
     t0 = time.perf_counter()
     spec = d.part
     # Eq. 2-4 estimates
@@ -840,11 +852,11 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
     for si, start in enumerate(_starts(spec, c0)):
         start = {k: (c0[k] if k in fixed or k not in want else v) for k, v in start.items()}
         # stage 1: C, D law, BCD law; E and the rest held
-        p1 = _Problem(d, start, core, "l2")
+        p1 = _Problem(d, start, core, "l2", bounds)
         th1, n1 = p1.solve(p1.theta_of(start), tol=1e-5)  # only a start for stage 2
         c1 = dict(start, **p1.coeffs_of(th1)) if core else dict(start)
         # stage 2: everything that varies
-        p2 = _Problem(d, c1, want, "l2")
+        p2 = _Problem(d, c1, want, "l2", bounds)
         th2, n2 = p2.solve(p2.theta_of(c1), tol=1e-6)  # coarse: the best is polished below
         obj = p2.objective(th2)
         nfev_total += n1 + n2
@@ -872,7 +884,7 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
     if cost in ("l1", *ROBUST_LOSSES) and len(theta):
         # from the l2 solution: Komana et al.'s Eq. 5 (sum of absolute errors, which the core reaches by
         # pseudo-Huber continuation), or Huber / soft-l1 on the mu residual scaled by each sweep's noise
-        pc = _Problem(d, prob.coeffs_of(theta), want, cost)
+        pc = _Problem(d, prob.coeffs_of(theta), want, cost, bounds)
         th, n = pc.solve(pc.theta_of(prob.coeffs_of(theta)))
         nfev_total += n
         prob, theta = pc, th
@@ -886,7 +898,7 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
                          "(linear E law, constrained exactly)")
             want2 = [k for k in want if k != "b6"]
             c_re = dict(coeffs, b6=0.0)
-            p3 = _Problem(d, c_re, want2, "l2")
+            p3 = _Problem(d, c_re, want2, "l2", bounds)
             th3, n3 = p3.solve(p3.theta_of(c_re))
             nfev_total += n3
             prob, theta, want = p3, th3, want2
@@ -898,8 +910,11 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
                 at_bound.append(tn)
                 what = (f"{tn.split('@')[0]} at Fz = {prob.lo if tn.endswith('lo') else prob.hi:.3g} kN"
                         if "@" in tn else tn)
-                notes.append(f"{spec.name}: {what} ended at its {side} bound {bound:g} (constraint active: the "
-                             "data want a value the physical limits exclude, or the model misses an effect)")
+                given = tn in prob.user_bounds and bound == prob.user_bounds[tn][0 if side == "lower" else 1]
+                notes.append(f"{spec.name}: {what} ended at its {side} bound {bound:g} " + (
+                    "(the bound given: the data want a value beyond it)" if given else
+                    "(constraint active: the data want a value the physical limits exclude, or the model misses an "
+                    "effect)"))
     stderr, correl = _uncertainty(prob, theta)
     bounds = {k: prob._direct_bounds(k) for k in want if k not in {x for s, i, _, _ in prob.pairs for x in (s, i)}}
     constraints = []
@@ -907,11 +922,24 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
         law = "D/Fz" if (s, i) in (("a1", "a2"), ("b1", "b2")) else ("BCD/Fz" if s == "b3" else "E")
         constraints.append(f"{law} = {s} Fz + {i} bounded to [{L:g}, {U:g}] at Fz = {prob.lo:.3g} and "
                            f"{prob.hi:.3g} kN (fitted as its end values)")
+    warns = []
+    for s, i, L, U in prob._laws():
+        if s in want and i in want and (s in prob.user_bounds or i in prob.user_bounds):
+            # bounds given on a member: the law is fitted in its own coefficients, its ends are only checked
+            ends = [coeffs[s] * fz + coeffs[i] for fz in (prob.lo, prob.hi)]
+            held = all(L <= e <= U for e in ends)
+            constraints.append(f"{s} Fz + {i} not constrained to [{L:g}, {U:g}] during the fit (bounds given on "
+                               f"{s if s in prob.user_bounds else i}); checked after it: "
+                               + ("holds" if held else "BROKEN"))
+            if not held:
+                warns.append(f"{spec.name}: {s} Fz + {i} = {ends[0]:.4g} .. {ends[1]:.4g} at Fz = {prob.lo:.3g} .. "
+                             f"{prob.hi:.3g} kN is outside [{L:g}, {U:g}] with the bounds given: not a physical "
+                             "tyre there")
     return PartFit(name=spec.name, coefficients=coeffs, varied=list(want), not_identifiable=why, stderr=stderr,
                    correl=correl, initial=c_init, estimates=est, facts=facts, objective=prob.objective(theta),
                    nfev=nfev_total, seconds=time.perf_counter() - t0, starts=starts_log, notes=notes, data=d,
                    noise_floor=nf_floor, noise_per_run=nf_runs, bounds=bounds, constraints=constraints,
-                   warnings=_part_warnings(d, coeffs, nf_floor), at_bound=at_bound)
+                   warnings=_part_warnings(d, coeffs, nf_floor) + warns, at_bound=at_bound)
 
 
 #: sweeps with fewer points than this (median) are too short to be slip sweeps
@@ -957,7 +985,8 @@ def _uncertainty(prob: _Problem, theta) -> tuple[dict[str, float], pd.DataFrame]
 
 # ------------------------------------------------------------------------------ public API
 def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
-              fixed: Mapping[str, float] | None = None, initial=None, tyre_info=None, screen: bool = True):
+              fixed: Mapping[str, float] | None = None, initial=None, tyre_info=None, screen: bool = True,
+              bounds: Mapping[str, tuple[float, float]] | None = None):
     """Fit PAC89 coefficients to tyre test data.
 
     Parameters
@@ -983,6 +1012,10 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
         coefficients held at these values.
     initial : mapping or lmfit.Parameters, optional
         start values overriding the Eq. 2-4 estimates.
+    bounds : mapping name -> (min, max), optional
+        bounds on coefficients, intersected with the physical ones (C > 0, ...).  A bounded member of a
+        linear law (a1/a2, a6/a7, b1/b2, b3/b4, b7/b8) is fitted in its own coefficient: the law's ends
+        (D > 0, E <= 1 over the load range) are then checked after the fit, with a warning if broken.
     tyre_info : mapping or Pac89Tyre, optional
         design data for the tyre file: ``unloaded_radius``, ``width`` [m],
         ``fnomin`` [N], ``lateral_stiffness``, ``vertical_stiffness`` [N/m],
@@ -1016,7 +1049,11 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
     initial = {str(k).lower(): float(v) for k, v in (initial or {}).items()}
     if vary is not None:
         vary = [str(k).lower() for k in vary]
-    for label, names in (("vary", vary or []), ("fixed", fixed), ("initial", initial)):
+    bounds = {str(k).lower(): (float(lo), float(hi)) for k, (lo, hi) in (bounds or {}).items()}
+    for k, (lo, hi) in bounds.items():
+        if not lo <= hi:
+            raise DataError(f"bounds: {k} min {lo:g} > max {hi:g}")
+    for label, names in (("vary", vary or []), ("fixed", fixed), ("initial", initial), ("bounds", bounds)):
         bad = [k for k in names if k not in pac89.ALL]
         if bad:
             from ..errors import close_matches
@@ -1031,7 +1068,7 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
         if vary is not None and not any(k in d.part.names for k in vary):
             continue
         with single_threaded_blas():
-            pf = _fit_part(d, cost=cost, vary=vary, fixed=fixed, initial=initial, notes=notes)
+            pf = _fit_part(d, cost=cost, vary=vary, fixed=fixed, initial=initial, notes=notes, bounds=bounds)
         if not all(np.isfinite(v) for v in pf.coefficients.values()):
             raise FitError(f"{name} fit did not converge to finite coefficients; check the data (units, signs)")
         fits[name] = pf
@@ -1040,7 +1077,7 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
                         f"(parts: {', '.join(parts)})")
     _check_orientation(fits)
     return FitResult.from_parts(fits, info=info, cost=cost, notes=notes, tyre_info=tyre_info, fixed=fixed,
-                                initial=initial, seconds=time.perf_counter() - t0)
+                                initial=initial, seconds=time.perf_counter() - t0, bounds=bounds)
 
 
 #: ISO-W: a positive slip angle gives a negative lateral force, a positive slip ratio a positive Fx

@@ -137,7 +137,7 @@ class FitResult(TyreFitResult):
     # ------------------------------------------------------------------ construction
     @classmethod
     def from_parts(cls, fits: dict, *, info: dict, cost: str, notes: list, tyre_info=None, fixed=None,
-                   initial=None, seconds: float = 0.0) -> "FitResult":
+                   initial=None, seconds: float = 0.0, bounds=None) -> "FitResult":
         coeffs: dict[str, float] = {}
         for pf in fits.values():
             coeffs.update(pf.coefficients)
@@ -203,7 +203,15 @@ class FitResult(TyreFitResult):
                 rows.append({"name": k, "part": name, "value": v, "stderr": se,
                              "rel_stderr": 100 * se / abs(v) if varied and v != 0 else float("nan"),
                              "varied": varied, "initial": pf.initial.get(k, float("nan")), "status": status})
-                params.add(k, value=v, vary=varied, min=lo if lo < v else -np.inf, max=hi if hi > v else np.inf)
+                if k in (bounds or {}):  # bounds the caller gave: shown as given (intersected), even when reached
+                    lo, hi = (lo, hi) if varied else bounds[k]
+                    if not varied and not lo <= v <= hi:
+                        notes.append(f"{name}: {k} = {v:g} is held (not fitted), outside the bounds given [{lo:g}, "
+                                     f"{hi:g}]")
+                        lo, hi = -np.inf, np.inf
+                    params.add(k, value=v, vary=varied, min=lo, max=hi)
+                else:
+                    params.add(k, value=v, vary=varied, min=lo if lo < v else -np.inf, max=hi if hi > v else np.inf)
                 params[k].stderr = se if varied else None
         coef_df = pd.DataFrame(rows)
         merged = _merged_levels(fits)
