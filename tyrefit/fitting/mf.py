@@ -1230,7 +1230,7 @@ class StageFit:
 
 def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Sequence[str] | None,
                nominal: Mapping[str, float], version: str, cost: str, notes: list[str],
-               multistart: bool = True, hold: Sequence[str] = ()) -> StageFit | None:
+               multistart: bool = True, hold: Sequence[str] = (), given: Sequence[str] = ()) -> StageFit | None:
     t0 = time.perf_counter()
     pts = data.subset(stage.sweeps, stage.channel)
     runs = pts["run"].unique()
@@ -1273,6 +1273,8 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     want = [k for k in want if k not in hold]  # held by the caller without a note (LMUV outside --effects speed)
     base = dict(p)
     for k in names:
+        if k in given:  # the caller's start or held value (fit_mf's initial, fixed), not the stage's estimate
+            continue
         if k in init and (k in want or k in stage.core):
             base[k] = init[k]
         if why.get(k, "").startswith(NO_PEAK):
@@ -1295,6 +1297,8 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
         nfev_proj = proj.nfev
     else:
         nfev_proj = 0
+    if set(given) & set(want) and starts[0] != base:  # the caller's start values are a start of their own
+        starts = [base] + starts
     log, best = [], None
     nfev = nfev_proj
     # the multi-start runs on at most _START_POINTS points per sweep; the winner is polished on all points
@@ -1771,7 +1775,7 @@ _PREREQUISITE_WHY = {"Fx0": "no slip-ratio sweeps at zero slip angle with Fx",
 def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] | None = None,
            effects: Sequence[str] | None = None, fixed: Mapping[str, float] | None = None,
            tyre_info: Mapping | None = None, convention: str = "iso", stages: Sequence[str] | None = None,
-           multistart: bool = True) -> "FitResultMF":
+           multistart: bool = True, initial: Mapping[str, float] | None = None) -> "FitResultMF":
     """Fit a Magic Formula 6.1 (or 5.2) tyre to one or more rig records.
 
     Parameters
@@ -1792,6 +1796,9 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
         ``fnomin`` [N], ``nompres`` [Pa], ``unloaded_radius``, ``width`` [m], ``name``.
     stages : sequence of str, optional
         stages to run (default all, see :data:`STAGES`).
+    initial : mapping, optional
+        start values of coefficients, instead of the stages' estimates: the first start of their
+        stage's multi-start (the lowest cost wins).
 
     Returns
     -------
@@ -1808,6 +1815,8 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
     notes = list(data.notes)
     p = {k.upper(): float(v) for k, v in mf.neutral().items()}
     p.update(_nominal(data, tyre_info, p))
+    start = {str(k).upper(): float(v) for k, v in (initial or {}).items()}
+    p.update(start)
     for k, v in (fixed or {}).items():
         p[str(k).upper()] = float(v)
     nominal = {k: p[k] for k in ("FNOMIN", "NOMPRES", "LONGVL", "UNLOADED_RADIUS") if k in p}
@@ -1859,7 +1868,7 @@ def fit_mf(data, *, model: str = "mf61", cost: str = "l2", vary: Sequence[str] |
                 if jf is not None:
                     fits["joint"] = jf
             sf = _fit_stage(st, data, p, vary_only=only, nominal=nominal, version=version, cost=cost, notes=notes,
-                            multistart=multistart, hold=hold)
+                            multistart=multistart, hold=hold, given=[*start, *fixed_names])
             if sf is None:
                 continue
             fits[st.name] = sf
