@@ -51,7 +51,7 @@ def _path(x) -> str | None:
 
 def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] | str | None = None,
         size: str | None = None, rated_load: float | None = None, patch=None, rig=None, vertical=None,
-        static_part: str = "peak", convention: str = "iso", allow_mirrored: bool = False):
+        static_part: str = "peak", convention: str = "iso", allow_mirrored: bool = False, params=None):
     """Fit a tyre to rig data: ``tyrefit fit`` as a function.
 
     Parameters
@@ -69,6 +69,26 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
         contact-patch data, rig calibration and vertical-stiffness test (static-rig data, PAC89).
     static_part : {'peak', 'sliding'}
     convention : {'iso', 'sae'}
+    params : lmfit.Parameters, optional
+        coefficients as lmfit users set them (names of the family: ``a0``..``c17`` for PAC89, ``PCY1``,
+        ``PDY1``, ... for MF); the others are fitted as without ``params``:
+
+        * ``value``: the start value of a varied coefficient (the fit's first start; its multi-start
+          still runs and the lowest cost wins);
+        * ``vary=False``: held at ``value``;
+        * ``min`` / ``max``: bounds, intersected with the physical ones (PAC89; refused for MF);
+        * ``expr``: evaluated at the values given and *held* at that value (not a constraint during the
+          fit; the result's notes say so).
+
+        Names not of the family raise :class:`~tyrefit.errors.DataError`.  ``res.lmfit_params()`` shows
+        the held coefficients with ``vary=False`` and the bounds given; ``res.fit_report()`` is lmfit's
+        report.  Example::
+
+            p = lmfit.Parameters()
+            p.add("a0", value=1.3, vary=False)     # C held
+            p.add("a2", value=1100, max=1200)      # start value and an upper bound
+            res = tf.fit(ds, model="pac89", params=p)
+            print(res.fit_report())
 
     Returns
     -------
@@ -80,7 +100,7 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
 
     return _fit(data, model=model, cost=cost, effects=effects, size=size, rated_load=rated_load,
                 patch=_path(patch), rig=_path(rig), vertical=_path(vertical), static_part=static_part,
-                convention=convention, allow_mirrored=allow_mirrored)
+                convention=convention, allow_mirrored=allow_mirrored, params=params)
 
 
 def diagnose(data, *, start: Sequence[str] | None = None, rated_load: float | None = None,

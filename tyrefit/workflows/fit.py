@@ -42,16 +42,34 @@ value has one of four origins, said in the header and on the console:
 
 Every record is checked for a mirrored tyre first (:func:`tyrefit.io.plausibility.check_mirrored`):
 refused unless ``allow_mirrored``; the findings allowed are kept in ``result.plausibility``.
+
+Coefficients given as ``params`` (an :class:`lmfit.Parameters`, read by :func:`read_params` without
+importing lmfit, so the command line never loads it):
+
+* ``value``: the start value of a varied coefficient (the first start of the multi-start, whose lowest
+  cost wins; a coefficient the data cannot identify is held at it);
+* ``vary=False``: held at ``value`` (PAC89 ``fixed``, MF ``fixed``);
+* ``min`` / ``max``: bounds, intersected with the physical ones (PAC89 only; a bounded member of a
+  linear load law is fitted in its own coefficient and the law's ends are checked after the fit);
+  bounds on Magic Formula coefficients are refused;
+* ``expr``: evaluated by lmfit at the values given and held there: an expression is not a
+  constraint during the fit, and the result's notes say so.
+
+``result.lmfit_params()`` then shows the held coefficients with ``vary=False`` and the bounds given.
 """
 
 from __future__ import annotations
 
+import copy
+import math
 import os
+import re
 import warnings
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import DataError, option
+from ..errors import DataError, close_matches, option
 from ..io.plausibility import check_mirrored
 from ..io.readers import check_fittable, read_data
 from ..tyres.size import complete_design, complete_mf_design, loaded_radius_law, size_and_rated_load
@@ -60,7 +78,8 @@ from ..fitting import fit_pac89
 from ..fitting.mf import fit_mf, prepare_mf_data
 from ..rig import RigCalibration, prepare_static_fit
 
-__all__ = ["fit", "fit_pac89_record", "fit_mf_records", "read_checked", "static_input", "MODELS", "COSTS"]
+__all__ = ["fit", "fit_pac89_record", "fit_mf_records", "read_checked", "static_input", "read_params", "ParamsGiven",
+           "MODELS", "COSTS"]
 
 MODELS = ("pac89", "mf52", "mf61")
 COSTS = ("l2", "l1", "soft_l1", "huber")
@@ -76,9 +95,102 @@ def read_checked(item, convention: str = "iso", allow_mirrored: bool = False):
     return ds, check_mirrored(ds, allow=allow_mirrored)
 
 
+# --------------------------------------------------------------------------- params= (lmfit Parameters)
+
+@dataclass
+class ParamsGiven:
+    """What an :class:`lmfit.Parameters` given as ``params`` asks of a fit, in the family's names."""
+
+    family: str
+    #: varied coefficients with a finite value: their start values
+    start: dict[str, float] = field(default_factory=dict)
+    #: ``vary=False`` or an expression: held at these values
+    held: dict[str, float] = field(default_factory=dict)
+    #: a finite ``min`` or ``max``: (min, max)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    #: name -> expression (evaluated at the values given; its value is in ``held``)
+    exprs: dict[str, str] = field(default_factory=dict)
+
+    def notes(self) -> list[str]:
+        """What the fit did with them, for the result's notes."""
+        out = []
+        if self.start:
+            out.append("params=: start values given for " + ", ".join(self.start))
+        plain = [f"{k} = {v:.6g}" for k, v in self.held.items() if k not in self.exprs]
+        if plain:
+            out.append("params=: held (vary=False) at " + ", ".join(plain))
+        for k, e in self.exprs.items():
+            out.append(f"params=: {k} = {e!r} held at {self.held[k]:.6g}, its value at the values given: an "
+                       "expression is evaluated once, before the fit, and is not a constraint during it")
+        if self.bounds:
+            out.append("params=: bounds " + ", ".join(f"{k} [{lo:g}, {hi:g}]" for k, (lo, hi) in self.bounds.items()))
+        return out
+
+
+_MF_COEFFICIENT = re.compile(r"[PQRS][A-Z]{1,3}\d+|L(?!ONGVL)[A-Z]+")  # as FitResultMF.lmfit_params
+
+
+def _family_names(model: str) -> tuple[set, str]:
+    if model == "pac89":
+        from ..models.pac89 import ALL
+
+        return set(ALL), "a PAC89 coefficient (accepted a0..a13, b0..b10, c0..c17)"
+    from ..fitting.mf import _known_names
+
+    return ({k for k in _known_names() if _MF_COEFFICIENT.fullmatch(k)},
+            "a Magic Formula coefficient (P*, Q*, R*, S* or an L* scaling factor; design data come from the "
+            "data, size= and rated_load=)")
+
+
+def read_params(params, model: str = "pac89") -> ParamsGiven | None:
+    """``params`` (an :class:`lmfit.Parameters`, or None) as start values, holds, bounds and expressions.
+
+    Read through the attributes lmfit's parameters have (``value``, ``vary``, ``min``, ``max``, ``expr``),
+    so lmfit is not imported here.  Expressions are evaluated by lmfit (``update_constraints``) on a copy.
+    """
+    if params is None or isinstance(params, ParamsGiven):
+        return params
+    if not hasattr(params, "items") or not all(hasattr(p, "value") for _, p in params.items()):
+        raise DataError(f"params=: an lmfit.Parameters (name -> Parameter with value, vary, min, max, expr); got "
+                        f"{type(params).__name__}")
+    params = copy.deepcopy(params)
+    if hasattr(params, "update_constraints"):
+        try:
+            params.update_constraints()
+        except Exception as e:  # lmfit's asteval: an unknown name or a bad expression
+            raise DataError(f"params=: an expression could not be evaluated: {e}") from e
+    family = "pac89" if model == "pac89" else "mf"
+    names, what = _family_names(model)
+    norm = str.lower if family == "pac89" else str.upper
+    out = ParamsGiven(family)
+    bad = [k for k, _ in params.items() if norm(str(k)) not in names]
+    if bad:
+        raise DataError(f"params=: {', '.join(map(str, bad))} not {what}" + close_matches(norm(str(bad[0])), names))
+    for key, p in params.items():
+        k = norm(str(key))
+        expr = getattr(p, "expr", None) or None
+        v = float(p.value)
+        lo = -math.inf if getattr(p, "min", None) is None else float(p.min)
+        hi = math.inf if getattr(p, "max", None) is None else float(p.max)
+        if expr is not None or not bool(getattr(p, "vary", True)):
+            if not math.isfinite(v):
+                raise DataError(f"params=: {key} is held (vary=False or expr) but its value is {v:g}; give a value")
+            out.held[k] = v
+            if expr is not None:
+                out.exprs[k] = str(expr)
+        elif math.isfinite(v):
+            out.start[k] = v
+        if math.isfinite(lo) or math.isfinite(hi):
+            if family == "mf":
+                raise DataError(f"params=: bounds on MF coefficients are not supported yet: {key} [{lo:g}, {hi:g}] "
+                                "(hold it with vary=False, or leave min and max at -inf and inf)")
+            out.bounds[k] = (lo, hi)
+    return out
+
+
 def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] | str | None = None,
         size: str | None = None, rated_load: float | None = None, patch=None, rig=None, vertical=None,
-        static_part: str = "peak", convention: str = "iso", allow_mirrored: bool = False):
+        static_part: str = "peak", convention: str = "iso", allow_mirrored: bool = False, params=None):
     """Fit a tyre to rig data; see :func:`tyrefit.api.fit` for the parameters.
 
     Returns the fit result with ``plausibility`` (the mirrored-tyre findings allowed), and for PAC89
@@ -94,6 +206,7 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
     items = list(data) if isinstance(data, (list, tuple)) else [data]
     if not items:
         raise DataError("data: give at least one record")
+    given = read_params(params, model)
     eff = _effect_ids(effects)
     if model != "pac89":
         for name, v in (("patch", patch), ("rig", rig), ("vertical", vertical)):
@@ -107,7 +220,7 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
             plaus += found
         name = Path(str(getattr(items[0], "source", items[0]))).stem
         result = fit_mf_records(sets, model=model, cost=cost, effects=eff, size=size, rated_load=rated_load,
-                                name=name)
+                                name=name, params=given)
         result.plausibility = plaus
         return result
     if len(items) > 1:
@@ -117,7 +230,7 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
     ds, plaus = read_checked(item, convention, allow_mirrored)
     name = str(getattr(item, "source", "") or "data") if _is_dataset(item) else os.fspath(item)
     result = fit_pac89_record(ds, name=name, cost=cost, effects=eff, size=size, rated_load=rated_load,
-                              patch=patch, rig=rig, vertical=vertical, static_part=static_part)
+                              patch=patch, rig=rig, vertical=vertical, static_part=static_part, params=given)
     result.plausibility = plaus
     return result
 
@@ -161,10 +274,11 @@ def _tyre_info(sfi, rated_load, name) -> dict:
 
 def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] = (), size: str | None = None,
                      rated_load: float | None = None, patch=None, rig=None, vertical=None,
-                     static_part: str = "peak"):
+                     static_part: str = "peak", params=None):
     """A PAC89 tyre from one record already read (the workflow of ``tyrefit fit``, without writing).
 
-    ``name``: the record's file name (the tyre's name and the report's titles).  Returns the
+    ``name``: the record's file name (the tyre's name and the report's titles).  ``params``: an
+    :class:`lmfit.Parameters` of start values, holds, bounds and expressions (:func:`read_params`).  Returns the
     :class:`~tyrefit.fitting.result.FitResult` with ``extras``: ``static`` (the static-rig input or
     None), ``start`` (the start model's fit with ``effects``), ``effects`` (ids), ``notes``, ``dataset``.
     """
@@ -188,6 +302,14 @@ def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] 
     info = _tyre_info(sfi, rated_load, name)
     # static 'peak' part: C (Eq. 2) and the peak-friction law measured by the static test itself
     fixed = (sfi.anchors or None) if sfi is not None else None
+    given = read_params(params, "pac89")
+    kw = {}
+    if given is not None:
+        for k, v in given.held.items():
+            if k in (fixed or {}) and fixed[k] != v:
+                notes.append(f"params=: {k} held at {v:.6g} given instead of the static test's {fixed[k]:.6g}")
+        fixed = {**(fixed or {}), **given.held} or None
+        kw = {"initial": dict(given.start), "bounds": dict(given.bounds)}
     extras = {"static": sfi, "start": None, "effects": [], "notes": notes, "dataset": ds}
     effects = list(effects)
     if effects:
@@ -201,11 +323,12 @@ def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] 
         # fit (every coefficient the data identify), never silent zeros
         other = [k for k in ALL if k[0] in "bc"]
         vary0, vary1 = list(vary0) + other, list(vary1) + other
-        extras["start"] = fit_pac89(data, cost=cost, vary=vary0, tyre_info=info, fixed=fixed)
+        extras["start"] = fit_pac89(data, cost=cost, vary=vary0, tyre_info=info, fixed=fixed, **kw)
         extras["effects"] = effects
         # the effects' model starts from the start model's solution
-        result = fit_pac89(data, cost=cost, vary=vary1, tyre_info=info, fixed=fixed,
-                           initial={k: v for k, v in extras["start"].values.items() if k.startswith("a")})
+        kw1 = dict(kw, initial={**kw.get("initial", {}),
+                                **{k: v for k, v in extras["start"].values.items() if k.startswith("a")}})
+        result = fit_pac89(data, cost=cost, vary=vary1, tyre_info=info, fixed=fixed, **kw1)
         result.notes.append(f"effects {', '.join(effects)}: start-model RMSE {extras['start'].rmse:.4g} N -> "
                             f"{result.rmse:.4g} N with the effects")
         carried, dropped = _effects_split(effects)
@@ -215,7 +338,9 @@ def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] 
             result.tyre.header.append(f"WARNING: effect {eid} requested but NOT in the model: {why}")
         extras["effects_carried"], extras["effects_dropped"] = carried, [e for e, _ in dropped]
     else:
-        result = fit_pac89(data, cost=cost, tyre_info=info, fixed=fixed)
+        result = fit_pac89(data, cost=cost, tyre_info=info, fixed=fixed, **kw)
+    if given is not None:
+        notes += given.notes()
     if sfi is not None:
         sfi.apply_to(result.tyre)
     notes += [n for n in complete_design(result.tyre, tyre_size, rated_load)
@@ -240,8 +365,12 @@ def _effects_split(effects):
 # --------------------------------------------------------------------------- Magic Formula
 
 def fit_mf_records(sets, *, model: str = "mf61", cost: str = "l2", effects: Sequence[str] = (),
-                   size: str | None = None, rated_load: float | None = None, name: str | None = None):
+                   size: str | None = None, rated_load: float | None = None, name: str | None = None,
+                   params=None):
     """One Magic Formula tyre from records already read (``tyrefit fit --model mf61|mf52``, without writing).
+
+    ``params``: an :class:`lmfit.Parameters` of start values (``value``), holds (``vary=False``) and
+    expressions (held at their value); bounds are refused (:func:`read_params`).
 
     Returns the :class:`~tyrefit.fitting.mf_result.FitResultMF` with ``start`` (the start model's fit
     with ``effects``, else None) and ``placeholders`` (design values from the template).
@@ -264,6 +393,9 @@ def fit_mf_records(sets, *, model: str = "mf61", cost: str = "l2", effects: Sequ
         info["width"] = tyre_size.width
     effects = list(effects)
     kw = {"model": model, "cost": cost or "l2", "tyre_info": info}
+    given = read_params(params, model)
+    if given is not None:
+        kw.update(initial=dict(given.start), fixed=dict(given.held))
     start = None
     if effects:
         start = fit_mf(data, effects=[], **kw)
@@ -279,6 +411,8 @@ def fit_mf_records(sets, *, model: str = "mf61", cost: str = "l2", effects: Sequ
     result.tyre_info["header"] = list(result.tyre_info.get("header", [])) + lines
     if measured.get("note"):
         result.notes.append(f"loaded radius: {measured['note']}")
+    if given is not None:
+        result.notes.extend(given.notes())
     if "UNLOADED_RADIUS" in result.placeholders:
         result.warnings.append(f"UNLOADED_RADIUS {result.params['UNLOADED_RADIUS']:g} m is a TEMPLATE value (no "
                                "credible loaded-radius channel in the data and no tyre size given): the Mz and Mx "
