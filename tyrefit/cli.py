@@ -173,6 +173,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rig", metavar="RIG.json", help="displacement-to-slip calibration from 'tyrefit rig calibrate'")
     p.add_argument("--static-part", choices=("peak", "sliding"), default="peak",
                    help="static tests: which part of each push is diagnosed (as for fit)")
+    p.add_argument("--base", choices=("pac89", "mf61", "mf52"), default="pac89",
+                   help="the model to diagnose: PAC89 grown effect by effect (default), or the Magic Formula tyre "
+                        "`fit --model mf61|mf52` writes, and what it still misses")
     _convention(p)
 
     p = sub.add_parser("sim", help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")

@@ -15,17 +15,19 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from ..diagnose import combine_records, diagnose, diagnose_channels
+from ..effects import parse_effects
 from ..errors import DataError, OutputExistsError, ValueRangeError
 from ..io.outputs import check_output
+from ..io.readers import read_data
+from ..workflows.fit import fit_pac89_record, static_input
+from ..workflows.ladder import diagnose_mf
 
 __all__ = ["run"]
 
 
 def run(args) -> int:
     """Run ``tyrefit diagnose``; return the exit code."""
-    from ..diagnose import combine_records, diagnose, diagnose_channels
-    from ..effects import parse_effects
-    from ..io.readers import read_data
 
     force = bool(getattr(args, "force", False))
     json_path = check_output(args.json, force)
@@ -45,8 +47,6 @@ def run(args) -> int:
     ds = records[0] if len(records) == 1 else None
     if ds is not None and ds.kind == "static":
         # static-rig pushes: the same Eq. 1 conversion as `tyrefit fit` (tyrefit.rig.prepare_static_fit)
-        from ..workflows.fit import static_input
-
         sfi = static_input(ds, patch=getattr(args, "patch", None), rig=getattr(args, "rig", None),
                            vertical=getattr(args, "vertical", None),
                            static_part=getattr(args, "static_part", "peak") or "peak", rated_load=rated, notes=notes)
@@ -69,6 +69,10 @@ def run(args) -> int:
                             f"slip_angle) or static-rig pushes with --patch; found {kinds} data" + hint)
         ds = combine_records(records)
         lead = lateral[0]
+    base = getattr(args, "base", "pac89") or "pac89"
+    if base != "pac89":
+        return _run_ladder(records if len(records) > 1 else [ds], base, args, rated, json_path, report_dir, force,
+                           start)
     dg = diagnose(ds, start=start, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
     dg.channels, dg.channels_absent = diagnose_channels(ds, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
     dg.data.notes[:0] = notes
@@ -81,14 +85,29 @@ def run(args) -> int:
     return 0
 
 
+def _run_ladder(records, base, args, rated, json_path, report_dir, force, start) -> int:
+    """``--base mf61|mf52``: what the Magic Formula tyre of ``fit --model`` still misses (:mod:`tyrefit.workflows.ladder`)."""
+    if start:
+        raise DataError("--start names PAC89 effects; with --base mf61 the start is the Magic Formula tyre of "
+                        "`tyrefit fit --model mf61`")
+    if any(r.kind not in ("slip_angle", "slip_ratio") for r in records):
+        raise DataError(f"--base {base} diagnoses dynamic-rig slip sweeps; static-rig pushes are diagnosed with "
+                        "the PAC89 base (`--patch`)")
+    lg = diagnose_mf(records, model=base, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
+    if report_dir:
+        lg.report(report_dir, force=force)
+    lg.to_json(json_path, force=force)
+    print(lg.summary())
+    print(f"wrote {json_path}" + (f" and {Path(report_dir) / 'index.html'}" if report_dir else ""))
+    return 0
+
+
 def _run_export(dg, ds, args) -> None:
     """Run the fit of the export command the report suggests, so the report states what that command gives.
 
     ``dg.export['fit_rmse']`` [N]: lateral RMSE of ``tyrefit fit DATA --effects <PAC89 export effects>``
     (:func:`tyrefit.workflows.fit.fit_pac89_record`, the same code the command runs).
     """
-    from ..workflows.fit import fit_pac89_record
-
     result = fit_pac89_record(ds, name=str(ds.source), cost="l2", effects=list(dg.export.get("effects", [])),
                               rated_load=getattr(args, "rated_load", None))
     dg.export["fit_rmse"] = float(result.rmse)

@@ -15,7 +15,8 @@ from .channels import ChannelDiagnosis, effect_sizes
 __all__ = ["plot_channel_waterfall", "plot_channel_residual_maps", "add_channel_sections"]
 
 _NAMES = {"fy": "lateral force Fy", "mz": "aligning moment Mz", "fx": "longitudinal force Fx"}
-_SLIP = {"mz": ("slip angle [deg]", 180.0 / np.pi), "fx": ("slip ratio [%]", 100.0)}
+_SLIP = {"fy": ("slip angle [deg]", 180.0 / np.pi), "mz": ("slip angle [deg]", 180.0 / np.pi),
+         "fx": ("slip ratio [%]", 100.0)}
 
 
 def _waterfall(ax, labels, rmse, heldout, floor, unit, title):

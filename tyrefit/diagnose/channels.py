@@ -65,7 +65,7 @@ from ..models import pac89
 from .data import SweepData, prepare, segments
 
 __all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
-           "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "factor_levels", "KAPPA_SWEPT", "ALPHA_PURE"]
+           "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS", "factor_levels", "KAPPA_SWEPT", "ALPHA_PURE"]
 
 _DEG = np.pi / 180.0
 #: a drive/brake sweep spans at least this slip ratio (2-98 % quantiles)
@@ -73,7 +73,9 @@ KAPPA_SWEPT = 0.05
 #: ... at a slip angle within this of zero [rad] (a pure longitudinal sweep)
 ALPHA_PURE = 0.5 * _DEG
 #: the knot spacing of the noise floor's smooth curve, in the channel's slip unit
-_FLOOR_SPACING = {"mz": 1.5 * _DEG, "fx": 0.02}
+_FLOOR_SPACING = {"fy": 1.5 * _DEG, "mz": 1.5 * _DEG, "fx": 0.02}
+#: unit of each channel
+UNITS = {"fy": "N", "mz": "N*m", "fx": "N"}
 
 
 @dataclass(frozen=True)
@@ -134,7 +136,7 @@ class ChannelData:
 
     @property
     def unit(self) -> str:
-        return CHANNELS[self.channel][1]
+        return UNITS[self.channel]
 
 
 @dataclass
@@ -222,19 +224,20 @@ def channel_data(data, channel: str, rated_load: float | None = None) -> Channel
     Mz: the cornering sweeps that carry ``mz`` (combined-slip and drive/brake segments left out, as the
     lateral diagnosis does).  Fx: the drive/brake sweeps at zero slip angle (see the module docstring).
     """
-    if channel not in CHANNELS:
-        raise DataError(f"channel={channel!r}: one of {', '.join(CHANNELS)}")
+    if channel not in UNITS:
+        raise DataError(f"channel={channel!r}: one of {', '.join(UNITS)}")
     df, source, meta = _frame_of(data)
     rated = rated_load if rated_load is not None else meta.get("rated_load")
     keep = [c for c in ("run", "camber", "pressure", "speed", "load") if c in df.columns]
-    if channel == "mz":
-        need = ("mz", "slip_angle", "fz")
-        if any(c not in df.columns for c in need) or df["mz"].notna().sum() < 20:
-            return "no aligning moment (mz) in the record"
+    if channel in ("mz", "fy"):
+        what = "aligning moment (mz)" if channel == "mz" else "lateral force (fy)"
+        need = (channel, "slip_angle", "fz")
+        if any(c not in df.columns for c in need) or df[channel].notna().sum() < 20:
+            return f"no {what} in the record"
         cols = ["slip_angle", "fz"] + keep + (["slip_ratio"] if "slip_ratio" in df.columns else [])
-        frame = df[cols].assign(fy=df["mz"])
+        frame = df[cols].assign(fy=df[channel])
         if frame.dropna(subset=["slip_angle", "fz", "fy"]).empty:
-            return "no aligning moment (mz) in the record"
+            return f"no {what} in the record"
     else:
         need = ("fx", "slip_ratio", "fz")
         if any(c not in df.columns for c in need) or df["fx"].notna().sum() < 20:
@@ -454,9 +457,12 @@ def systematic_share(cd: ChannelData, resid: np.ndarray, n_bins: int = 12) -> fl
     Each sweep's residual is averaged in ``n_bins`` slip bins; the pattern of sweep g is predicted, bin by
     bin, by a plane in the conditions that vary (load, camber, pressure, speed levels) through the other
     sweeps' patterns (their mean where the others share one condition).
-    Share = 1 - sum (r_g - prediction)^2 / sum r_g^2 over sweeps and bins.  A misfit of the model
-    repeats from sweep to sweep (share well above 0); noise, however correlated along a sweep, is new
-    in every sweep (share near or below 0).  NaN with fewer than 3 sweeps.
+    Share = 1 - sum (r_g - prediction)^2 / sum r_g^2 over sweeps and bins; the larger of that and the
+    same share with the nearest other sweep in the conditions as the prediction (a misfit that bends
+    with load is shared by neighbouring levels, not by a plane).  A misfit of the model repeats from
+    sweep to sweep (share well above 0); noise, however correlated along a sweep, is new in every
+    sweep (share near -1 for the neighbour, near or below 0 for the plane).  NaN with fewer than 3
+    sweeps.
     """
     sd = cd.sweeps
     G = sd.n_sweeps
@@ -477,6 +483,13 @@ def systematic_share(cd: ChannelData, resid: np.ndarray, n_bins: int = 12) -> fl
         if np.ptp(v) > 0:
             cols.append((v - v.mean()) / np.ptp(v))
     Z = np.column_stack(cols)
+    # a second predictor: the pattern of the nearest other sweep in the conditions (a misfit that bends with
+    # load, a knee, is not a plane in the conditions but is shared by neighbouring levels)
+    D = ((Z[:, None, 1:] - Z[None, :, 1:]) ** 2).sum(axis=2) + np.diag(np.full(G, np.inf))
+    nearest = np.argmin(D, axis=1)
+    fin = np.isfinite(pat) & np.isfinite(pat[nearest])
+    nn_den = float(np.sum(pat[fin] ** 2))
+    nn = 1.0 - float(np.sum((pat - pat[nearest])[fin] ** 2)) / nn_den if nn_den > 0 else float("nan")
     num = den = 0.0
     for g in range(G):
         rest = np.flatnonzero(np.arange(G) != g)
@@ -492,7 +505,8 @@ def systematic_share(cd: ChannelData, resid: np.ndarray, n_bins: int = 12) -> fl
             coef = np.linalg.lstsq(X[:, use], pat[rest, k][ok], rcond=None)[0]
             num += (pat[g, k] - Z[g, use] @ coef) ** 2
             den += pat[g, k] ** 2
-    return float(1.0 - num / den) if den > 0 else float("nan")
+    plane = float(1.0 - num / den) if den > 0 else float("nan")
+    return float(np.nanmax([plane, nn])) if np.isfinite([plane, nn]).any() else float("nan")
 
 
 #: above this :func:`systematic_share` the residual left is a misfit, below it noise (or undecided)
