@@ -75,7 +75,8 @@ from ..io.readers import check_fittable, read_data
 from ..tyres.size import complete_design, complete_mf_design, loaded_radius_law, size_and_rated_load
 from ..effects import EFFECTS
 from ..fitting import fit_pac89
-from ..fitting.mf import fit_mf, prepare_mf_data
+from ..fitting.mf import _known_names as _mf_names, fit_mf, prepare_mf_data
+from ..models.pac89 import ALL as _PAC89_NAMES
 from ..rig import RigCalibration, prepare_static_fit
 
 __all__ = ["fit", "fit_pac89_record", "fit_mf_records", "read_checked", "static_input", "read_params", "ParamsGiven",
@@ -132,12 +133,8 @@ _MF_COEFFICIENT = re.compile(r"[PQRS][A-Z]{1,3}\d+|L(?!ONGVL)[A-Z]+")  # as FitR
 
 def _family_names(model: str) -> tuple[set, str]:
     if model == "pac89":
-        from ..models.pac89 import ALL
-
-        return set(ALL), "a PAC89 coefficient (accepted a0..a13, b0..b10, c0..c17)"
-    from ..fitting.mf import _known_names
-
-    return ({k for k in _known_names() if _MF_COEFFICIENT.fullmatch(k)},
+        return set(_PAC89_NAMES), "a PAC89 coefficient (accepted a0..a13, b0..b10, c0..c17)"
+    return ({k for k in _mf_names() if _MF_COEFFICIENT.fullmatch(k)},
             "a Magic Formula coefficient (P*, Q*, R*, S* or an L* scaling factor; design data come from the "
             "data, size= and rated_load=)")
 
