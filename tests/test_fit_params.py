@@ -220,3 +220,21 @@ def test_mf61_bounds_and_unknown_names_are_refused(cornering):
         tf.fit(cornering, model="mf61", params=_params(PDY1={"value": 1.0, "max": 2.0}))
     with pytest.raises(DataError, match="params=: a0 not a Magic Formula coefficient"):
         tf.fit(cornering, model="mf61", params=_params(a0={"value": 1.0}))
+
+
+def test_one_load_fit_keeps_a_held_or_given_a3():
+    """One load level: the BCD law's a4 is held at its estimate, and a3 with it - unless the caller held or
+    gave a3 (fit_pac89's ``fixed`` / ``initial``): a held a3 = 1234 came back as the estimate 1428."""
+    import numpy as np
+    import pandas as pd
+
+    from tyrefit.fitting.engine import fit_pac89
+    from tyrefit.models import pac89
+
+    p = {"a0": 1.5, "a1": -20.0, "a2": 1100.0, "a3": 1500.0, "a4": 8.0, "a6": -0.1, "a7": -0.5}
+    p = {k: p.get(k, 0.0) for k in pac89.LATERAL}
+    a = np.radians(np.linspace(-12, 12, 49))
+    fz = np.full(49, 4000.0)
+    df = pd.DataFrame({"run": 0, "fz": fz, "slip_angle": a, "camber": 0.0, "fy": pac89.lateral_force(p, fz, a)})
+    held = fit_pac89(df, vary=["a0", "a2", "a3", "a7"], fixed={"a3": 1234.0})
+    assert held.lmfit_params()["a3"].value == 1234.0

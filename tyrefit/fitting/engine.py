@@ -839,7 +839,8 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
     if spec.name == "lateral" and "a4" in why and "a4" not in fixed and "a4" not in initial:
         # one load: BCD law's curvature held so the cornering coefficient 2 a3/a4 falls gently with load
         c0["a4"] = c_init["a4"]
-        c0["a3"] = c_init["a3"]
+        if "a3" not in fixed and "a3" not in initial:  # a held or given a3 stays what the caller said
+            c0["a3"] = c_init["a3"]
     if not d._any_peak and spec.name != "aligning":
         notes.append(f"{spec.name}: no sweep reaches its peak inside the tested slip range; D and C are "
                      "extrapolated (Eq. 2-4 fallback, see tyrefit.fitting.initial)")
