@@ -715,6 +715,29 @@ def _cases_commands() -> list[Case]:
                                                    "{d}/r"], {"d.csv": GOOD}, "ok",
              check=_and(json_has("o.json", "start", "accepted", "noise_floor", "steps", "candidates"),
                         _exists("r/index.html")), timeout=300))
+    # several records, every channel, and the Magic Formula base (issue 24)
+    ttc = ["{data}/ttc_mf61/cornering.dat", "{data}/ttc_mf61/drivebrake.dat", "--convention", "sae"]
+    add(Case("diagnose cornering + drive/brake records", "diagnose", ["diagnose", *ttc, "--json", "{d}/o.json"], {},
+             "ok", check=json_has("o.json", "start", "accepted", "noise_floor", "steps", "candidates", "channels"),
+             timeout=300))
+    add(Case("diagnose a record and a garbage file", "diagnose", ["diagnose", "{d}/d.csv", "{d}/x.csv", "--json",
+                                                                  "{d}/o.json"], {"d.csv": GOOD, "x.csv": "\x00\xff garbage\n"},
+             "error", r"x\.csv"))
+    add(Case("diagnose drive/brake record alone", "diagnose", ["diagnose", "{data}/ttc_mf61/drivebrake.dat",
+                                                               "--convention", "sae", "--json", "{d}/o.json"], {},
+             "error", r"(?i)cornering record"))
+    add(Case("diagnose --base mf61", "diagnose", ["diagnose", *ttc, "--base", "mf61", "--json", "{d}/o.json",
+                                                  "--report", "{d}/r"], {}, "ok",
+             check=_and(json_has("o.json", "start", "accepted", "noise_floor", "steps", "candidates", "channels",
+                                 "held_neutral"), _exists("r/index.html")), timeout=300))
+    add(Case("diagnose --base mf61 on static pushes", "diagnose", ["diagnose", "{data}/truck/tyre_a_static.csv",
+                                                                   "--base", "mf61", "--json", "{d}/o.json"], {},
+             "error", r"(?i)base"))
+    add(Case("diagnose --base mf61 --start", "diagnose", ["diagnose", "{d}/d.csv", "--base", "mf61", "--start",
+                                                          "camber", "--json", "{d}/o.json"], {"d.csv": GOOD},
+             "error", r"--start"))
+    add(Case("diagnose --base unknown", "diagnose", ["diagnose", "{d}/d.csv", "--base", "pac2002", "--json",
+                                                     "{d}/o.json"], {"d.csv": GOOD}, "error", r"(?i)base"))
     # edge cases of the analysis commands
     arr0, arrf = sweeps_frame(), sweeps_frame()
     arr0[:, 2] = 0.0

@@ -45,6 +45,10 @@ def run(args) -> int:
     records = [read_data(p, convention=convention) for p in paths]
     notes: list[str] = []
     ds = records[0] if len(records) == 1 else None
+    base = getattr(args, "base", "pac89") or "pac89"
+    if base != "pac89" and any(r.kind not in ("slip_angle", "slip_ratio") for r in records):
+        raise DataError(f"--base {base} diagnoses dynamic-rig slip sweeps (the Magic Formula tyre `tyrefit fit --model "
+                        f"{base}` writes); static-rig pushes are diagnosed with the PAC89 base and --patch")
     if ds is not None and ds.kind == "static":
         # static-rig pushes: the same Eq. 1 conversion as `tyrefit fit` (tyrefit.rig.prepare_static_fit)
         sfi = static_input(ds, patch=getattr(args, "patch", None), rig=getattr(args, "rig", None),
@@ -69,7 +73,6 @@ def run(args) -> int:
                             f"slip_angle) or static-rig pushes with --patch; found {kinds} data" + hint)
         ds = combine_records(records)
         lead = lateral[0]
-    base = getattr(args, "base", "pac89") or "pac89"
     if base != "pac89":
         return _run_ladder(records if len(records) > 1 else [ds], base, args, rated, json_path, report_dir, force,
                            start)
@@ -90,9 +93,6 @@ def _run_ladder(records, base, args, rated, json_path, report_dir, force, start)
     if start:
         raise DataError("--start names PAC89 effects; with --base mf61 the start is the Magic Formula tyre of "
                         "`tyrefit fit --model mf61`")
-    if any(r.kind not in ("slip_angle", "slip_ratio") for r in records):
-        raise DataError(f"--base {base} diagnoses dynamic-rig slip sweeps; static-rig pushes are diagnosed with "
-                        "the PAC89 base (`--patch`)")
     lg = diagnose_mf(records, model=base, rated_load=rated, seed=int(getattr(args, "seed", 0) or 0))
     if report_dir:
         lg.report(report_dir, force=force)
