@@ -252,6 +252,26 @@ KNOWN_SURVIVORS = [
      "draws within 1e-9 of T: the W = +-1 draws (T* = T up to rounding)"),
     ("tyrefit/diagnose/stats.py", "rcond=2e-10, hermitian=True) @ sk)", "harmless",
      "the pseudo-inverse's cut-off at 2e-10 instead of 1e-10 of the largest singular value"),
+    # the same seed on the code of d316ab8 (fit_pac89 bounds=, fit_mf initial=): new sites
+    ("tyrefit/fitting/engine.py", "hi = max(self.hi, 0.002)", "harmless",
+     "a floor on the largest load [kN] behind the b5/c5 bounds; rig loads are hundreds of times larger"),
+    ("tyrefit/fitting/engine.py", "'a4': (0.002,", "harmless", "a4's lower bound at 2e-3 kN instead of 1e-3 kN"),
+    ("tyrefit/fitting/engine.py", "C, E_law = (spec.core[1], spec.curvature)", "harmless",
+     "the multi-start's extra starts vary a1 instead of C; the Eq. 2-4 start is among them and the lowest cost wins"),
+    ("tyrefit/fitting/engine.py", "np.maximum(LOAD_SPIKE * med, SPIKE_K)", "harmless",
+     "the load-spike threshold moves only where 8 x the loads' MAD exceeds a quarter of the median load "
+     "(load noise above about 3 % of the load)"),
+    ("tyrefit/fitting/mf.py", "np.sign(float(base.get('PKY1', -1.0))) / np.sign(A)", "equivalent",
+     "A is the grid of +-2, 3, 4 deg, never 0: dividing by sign(A) = +-1 is multiplying by it"),
+    ("tyrefit/fitting/mf.py", "np.sign(float(base.get('PKY1', 1.0)))", "harmless",
+     "the default applies only to a base without PKY1; a stage's base is the complete neutral set"),
+    ("tyrefit/fitting/mf.py", "if last[0] is None and (not np.array_equal(last[0], th))", "harmless",
+     "the finite-difference Jacobian reuses the cached residual; SciPy evaluates the residual at x before its "
+     "Jacobian at x, so the cache is current"),
+    ("tyrefit/fitting/mf.py", "np.geomspace(0.6, 20.0, 60)", "harmless", "the lower end of PKY2's start grid"),
+    ("tyrefit/fitting/mf.py", "if res < best[1]:", "harmless",
+     "the PKY1/PKY2 start estimate's grid search picks another start; the Fy stage refits both"),
+    ("tyrefit/fitting/mf.py", "math.pi - phase + 0 / fz", "equivalent", "0 / fz = 0 * fz = 0 on the positive loads"),
 ]
 
 _OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
