@@ -34,15 +34,10 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
+from tyrefit.synthetic.ttc_drivebrake import COEFFICIENT_GROUPS
+
 #: coefficient groups of the MF 6.1 tyre that carry each family (Pacejka 2012, Sec. 4.3.2)
-GROUPS = {
-    "camber": ("PDY3", "PKY3", "PKY5", "PKY6", "PKY7", "PVY3", "PVY4", "PEY5", "PHY3", "QHZ3", "QHZ4", "QBZ4",
-               "QBZ5", "QDZ3", "QDZ4", "QEZ5", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "PDX3"),
-    "pressure": ("PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPY5", "PPZ1", "PPZ2"),
-    "offsets": ("QHZ1", "QHZ2", "QDZ6", "QDZ7", "PHY1", "PHY2", "PVY1", "PVY2", "PHX1", "PHX2"),
-    "rolling": ("PVX1", "PVX2"),
-    "asymmetry": ("QEZ4", "PEX4", "PEY3"),
-}
+GROUPS = COEFFICIENT_GROUPS
 #: the catalogue family that names each group, per channel (None: the channel has no such family)
 FAMILY = {"mz": {"camber": "mz_camber", "pressure": "mz_pressure", "offsets": "mz_offsets", "rolling": None,
                  "asymmetry": "mz_asymmetry"},

@@ -17,16 +17,9 @@ import pytest
 from tyrefit.diagnose.channels import channel_data, diagnose_channel, nested_p, sweep_p
 from tyrefit.fitting.noise import LagOneNoise
 from tyrefit.models import mf61
-from tyrefit.synthetic.ttc_drivebrake import make_sweeps, published_mf61
+from tyrefit.synthetic.ttc_drivebrake import COEFFICIENT_GROUPS, make_sweeps, published_mf61
 
-_GROUPS = {
-    "camber": ("PDY3", "PKY3", "PKY5", "PKY6", "PKY7", "PVY3", "PVY4", "PEY5", "PHY3", "QHZ3", "QHZ4", "QBZ4",
-               "QBZ5", "QDZ3", "QDZ4", "QEZ5", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "PDX3"),
-    "pressure": ("PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPY5", "PPZ1", "PPZ2"),
-    "offsets": ("QHZ1", "QHZ2", "QDZ6", "QDZ7", "PHY1", "PHY2", "PVY1", "PVY2", "PHX1", "PHX2"),
-    "rolling": ("PVX1", "PVX2"),
-    "asymmetry": ("QEZ4", "PEX4", "PEY3"),
-}
+_GROUPS = COEFFICIENT_GROUPS
 
 
 def _truth(keep: str | None) -> dict:

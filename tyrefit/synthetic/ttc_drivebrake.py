@@ -52,7 +52,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-__all__ = ["PUBLISHED_MF61", "published_mf61", "contract_mf61", "make_sweeps", "make_record", "generate", "SEED", "PROGRAMME"]
+__all__ = ["PUBLISHED_MF61", "COEFFICIENT_GROUPS", "published_mf61", "contract_mf61", "make_sweeps", "make_record", "generate", "SEED", "PROGRAMME"]
 
 SEED = 20251125
 _DEG = math.pi / 180.0
@@ -101,6 +101,18 @@ PROGRAMME = {
     "kappa_max": 0.2,
     "alpha_max_deg": 12.0,
     "speed": 11.1,  # m/s (40 km/h)
+}
+
+
+#: coefficient groups of an MF 6.1 set that carry one physical effect each (Pacejka 2012, Sec. 4.3.2): zeroing a
+#: group removes the effect from every channel (camber and pressure: checked by benchmarks/diagnose_channels.py)
+COEFFICIENT_GROUPS: dict[str, tuple[str, ...]] = {
+    "camber": ("PDY3", "PKY3", "PKY5", "PKY6", "PKY7", "PVY3", "PVY4", "PEY5", "PHY3", "QHZ3", "QHZ4", "QBZ4",
+               "QBZ5", "QDZ3", "QDZ4", "QEZ5", "QDZ8", "QDZ9", "QDZ10", "QDZ11", "PDX3"),
+    "pressure": ("PPX1", "PPX2", "PPX3", "PPX4", "PPY1", "PPY2", "PPY3", "PPY4", "PPY5", "PPZ1", "PPZ2"),
+    "offsets": ("QHZ1", "QHZ2", "QDZ6", "QDZ7", "PHY1", "PHY2", "PVY1", "PVY2", "PHX1", "PHX2"),
+    "rolling": ("PVX1", "PVX2"),
+    "asymmetry": ("QEZ4", "PEX4", "PEY3"),
 }
 
 
