@@ -65,3 +65,15 @@ def test_real_pressure_is_still_named():
     case = make_case("grid24", "ar1", "pressure", 0)
     dg = diagnose(case.data, rated_load=case.rated_load, seed=0)
     assert any(a.startswith("pressure") for a in dg.accepted)
+
+
+def test_two_loads_leave_camber_to_the_held_out_evidence():
+    """2 loads x 2 cambers (the bundled TTC-style record of MFeval's MF 6.1 tyre, which has camber thrust): one
+    load-to-load comparison is too weak to veto; camber_thrust is named as the held-out sweeps confirm it."""
+    import tyrefit as tf
+
+    ds = tf.read_data(tf.datasets.path("ttc_mf61/cornering.dat"), convention="sae")
+    d = prepare(ds, rated_load=6000.0)
+    assert _camber_evidence(d, np.random.default_rng(0).normal(size=d.n), CAMBER_ALPHA) is None
+    dg = diagnose(ds, rated_load=6000.0)
+    assert "camber_thrust" in dg.accepted

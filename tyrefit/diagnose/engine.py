@@ -417,6 +417,11 @@ def _shift_evidence(d: SweepData, resid: np.ndarray, alpha: float, floor: float)
 CAMBER_ALPHA = 1e-3
 
 
+#: loads (and other conditions) with >= 2 levels the contrast needs: with two, "repeats from load to load" is one
+#: comparison, too weak to veto the held-out evidence (a real camber thrust on 2 loads x 2 cambers gave p = 0.016)
+MIN_CONTRAST_LOADS = 3
+
+
 def _camber_evidence(d: SweepData, resid: np.ndarray, alpha: float, n_bins: int = 8,
                      factor: str = "camber") -> str | None:
     """None when the current model's residual differs between ``factor`` levels, else why the family is not named.
@@ -431,8 +436,8 @@ def _camber_evidence(d: SweepData, resid: np.ndarray, alpha: float, n_bins: int 
     an effect of ``factor`` repeats its contrast from load to load, noise does not.  One-way analysis of variance
     with the loads as replicates: F = between-bin variance of the load-mean contrast x n_loads over the
     across-load scatter (each load's sweeps are independent, so noise correlated along a sweep only
-    enters the scatter), against F(n_cells, n_cells (n_loads - 1)).  With fewer than 2 such loads the
-    held-out evidence alone decides.
+    enters the scatter), against F(n_cells, n_cells (n_loads - 1)).  With fewer than
+    :data:`MIN_CONTRAST_LOADS` such loads the held-out evidence alone decides.
     """
     from scipy import stats as sps
 
@@ -461,7 +466,7 @@ def _camber_evidence(d: SweepData, resid: np.ndarray, alpha: float, n_bins: int 
             pat[j] = np.where(c > 0, s / np.maximum(c, 1), np.nan)
         # k levels give k - 1 independent contrasts (they sum to zero): the last level's is left out
         contrasts.append((pat - np.nanmean(pat, axis=0))[:-1].ravel())
-    if len(contrasts) < 2 or len({len(c) for c in contrasts}) != 1:
+    if len(contrasts) < MIN_CONTRAST_LOADS or len({len(c) for c in contrasts}) != 1:
         return None
     C = np.vstack(contrasts)  # loads x (camber levels x bins)
     ok = np.isfinite(C).all(axis=0)
