@@ -182,3 +182,18 @@ def test_systematic_share_tells_a_repeated_misfit_from_correlated_noise():
     noise = np.concatenate([_ar1(rng, int((cd.sweep == g).sum()), 0.9) for g in range(cd.n_sweeps)]) * 40.0
     assert systematic_share(cd, misfit + 0.3 * noise) > SYSTEMATIC
     assert systematic_share(cd, noise) < SYSTEMATIC
+
+
+def test_a_channel_that_cannot_be_fitted_is_reported_not_raised(monkeypatch):
+    import tyrefit.diagnose.channels as C
+    from tyrefit.errors import FitError
+
+    def boom(*a, **k):
+        raise FitError("the model is not finite at the start values")
+
+    monkeypatch.setattr(C, "diagnose_channel", boom)
+    df = pd.DataFrame({"run": np.repeat([0, 1], 30), "fz": np.repeat([3000.0, 6000.0], 30),
+                       "slip_angle": np.tile(np.radians(np.linspace(-10, 10, 30)), 2),
+                       "mz": np.tile(40 * np.sin(np.radians(np.linspace(-10, 10, 30)) * 6), 2)})
+    out, absent = C.diagnose_channels(df)
+    assert out == {} and "could not be fitted" in absent["mz"]

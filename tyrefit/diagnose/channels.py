@@ -57,7 +57,7 @@ from scipy import stats
 
 from ..effects.base import Effect, ModelInputs
 from ..effects.channels import CHANNEL_EFFECTS, CHANNELS, PAC89_COEFFICIENT, START
-from ..errors import DataError
+from ..errors import DataError, FitError
 from ..fitting._blas import single_threaded_blas
 from ..fitting.core import Parameters, solve
 from ..fitting.noise import LagOneNoise, noise_floor
@@ -723,7 +723,11 @@ def diagnose_channels(data, rated_load: float | None = None, seed: int = 0,
         if isinstance(cd, str):
             absent[ch] = cd
             continue
-        out[ch] = diagnose_channel(cd, settings, seed=seed)
+        try:
+            out[ch] = diagnose_channel(cd, settings, seed=seed)
+        except (FitError, DataError, ValueError, FloatingPointError, np.linalg.LinAlgError) as exc:
+            # a channel whose start model cannot be fitted is reported, not allowed to sink the others
+            absent[ch] = f"its start model could not be fitted ({exc})"
     return out, absent
 
 
