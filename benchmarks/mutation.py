@@ -177,6 +177,10 @@ KNOWN_SURVIVORS = [
     ("tyrefit/fitting/engine.py", "if (s, i) == ('b7', 'b8') or ('b6' in self.vary", "harmless",
      "with b6 fitted (>= 4 loads) the D and BCD end-load laws are dropped as well; they are inactive for "
      "physical sweeps (longitudinal example: same coefficients to 1e-6)"),
+    ("tyrefit/fitting/engine.py", "* _RAD_TO_DEG if self.d.camber.size else 1", "equivalent",
+     "d.camber holds one value per point and a part is fitted only with sweeps of >= 4 points: never empty"),
+    ("tyrefit/fitting/engine.py", "'a3': (2e-09, np.inf)", "harmless",
+     "a guard floor on the peak cornering stiffness a3 (N/deg): rig values are ~1e3 (lateral example: 2461)"),
     ("tyrefit/fitting/initial.py", "rising = last.sum() > 3 and", "harmless",
      "only a sweep with exactly 3 points past 85 % of its range that peaks early and rises again at its end; "
      "the estimate seeds the fit"),

@@ -426,3 +426,82 @@ def test_the_nominal_pressure_is_the_datas_pressure_level_to_100_pa():
     assert abs(df.groupby("run")["pressure"].mean().mean() - 240020.0) < 10.0
     r = fit_mf(df, tyre_info=info, stages=["Fy0"], multistart=False)
     assert r.params["NOMPRES"] == r.params["INFLPRES"] == 240000.0
+
+
+def test_a_slip_at_exactly_half_the_largest_counts_on_neither_side():
+    """engine.py [328] ``identifiability`` (``x < -0.5 * xmax`` -> ``<=``: a negative point at exactly half counts).
+
+    The module docstring's rule: the shift and camber-asymmetry coefficients need both slip signs *reaching
+    beyond* half the largest |slip| (>= 3 points each side, the same strict test on both sides).  A sweep with
+    4 points past +half but only 2 past -half and one exactly at -half does not qualify; the mutant counts the
+    one at -half on the negative side only, calls the data two-sided and fits a8/a10/a13 from 2 points.
+    """
+    import pandas as pd
+
+    from tyrefit.fitting.engine import identifiability, prepare_data
+
+    # dyadic slips: x = slip x 180/pi is exactly -0.5 x max|x| at slip = -2**-5
+    pos = np.array([1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 12.0, 14.0, 16.0]) * 2.0**-8
+    slip = np.concatenate([-np.array([16.0, 12.0, 8.0, 4.0, 2.0]) * 2.0**-8, [0.0], pos])
+    df = pd.DataFrame({"run": 1, "fz": 3000.0, "camber": 0.0, "slip_angle": slip,
+                       "fy": -3000.0 * np.sin(1.3 * np.arctan(12.0 * slip))})
+    why, facts = identifiability(prepare_data(df, screen=False)[0]["lateral"])
+    assert (facts["points_pos"], facts["points_neg"]) == (4, 2), facts
+    assert facts["both_signs"] is False
+    assert {"a8", "a10", "a13"} <= set(why)
+
+
+def test_a_noise_free_sweep_gets_a_positive_robust_scale():
+    """engine.py [248] ``robust_scale`` (``sig > 0`` -> ``sig >= 0``: a sweep of zero noise keeps scale 0).
+
+    The robust costs divide each residual by s = 1.345 x the sweep's noise: a sweep whose noise floor is 0
+    (a noise-free linear sweep on an even slip grid, e.g. rounded rig data) takes the pooled value, and with
+    every sweep at 0 a floor of 1e-3 x the largest force.  The mutant leaves s = 0 there: r / s is infinite
+    (or 0 / 0) for every point of the sweep and a huber / soft_l1 fit of it is undefined.
+    """
+    import pandas as pd
+
+    from tyrefit.fitting.engine import noise_floor, prepare_data, robust_scale
+
+    i = np.arange(-10, 11)
+    rows = [pd.DataFrame({"run": k, "fz": fz, "camber": 0.0, "slip_angle": i * 2.0**-7, "fy": -fz / 3.0 * i})
+            for k, fz in ((1, 3000.0), (2, 6000.0))]
+    d = prepare_data(pd.concat(rows, ignore_index=True), screen=False)[0]["lateral"]
+    pooled, per = noise_floor(d)
+    assert pooled == 0.0 and (per == 0.0).all()
+    s = robust_scale(d)
+    assert np.all(np.isfinite(s)) and np.all(s > 0), s
+    assert_allclose(s, 1.345 * 1e-3 * 20000.0 / d.norm)
+
+
+def test_c5_bounds_given_beyond_its_physical_range_are_refused(lateral_sweeps_example):
+    """engine.py [362] ``_Problem._direct_bounds`` (c5's upper bound 10 / Fz_hi -> 10 x Fz_hi).
+
+    Mz's BCD carries exp(-c5 Fz); its physical range keeps c5 Fz_hi in [-2, 10] (bounds -2/Fz_hi, 10/Fz_hi
+    in kN), and fit_pac89(bounds=) refuses bounds outside the physical range with a DataError.  The mutant
+    lets c5 reach 10 Fz_hi (80 /kN at 8 kN: exp(-640) at the top load, an Mz slope of zero).
+    """
+    from tyrefit.errors import DataError
+    from tyrefit.fitting import fit_pac89
+
+    d0 = lateral_sweeps_example[np.isclose(lateral_sweeps_example["camber"], 0.0)]
+    hi = d0["fz"].max() / 1e3
+    with pytest.raises(DataError, match="outside its physical range"):
+        fit_pac89(d0, vary=["c0", "c2", "c3", "c4", "c5"], bounds={"c5": (20.0 / hi, 30.0 / hi)})
+
+
+def test_a_fit_ending_within_a_relative_1e_6_of_a_large_bound_reports_it(lateral_sweeps_example):
+    """engine.py [475] ``_fit_part`` (at-bound test ``<= 1e-6 x max(1, |bound|)`` -> ``<= 1e-6``, absolute).
+
+    A coefficient within a relative 1e-6 of its bound has ended there: the fit reports it in ``at_bound``
+    and says in the notes that the data want a value beyond it.  The solver stops a few 1e-4 short of a given
+    a3 bound of 2457 (the data want 2461); the mutant's absolute 1e-6 misses it, and the fit is reported as
+    free of its bounds.
+    """
+    from tyrefit.fitting import fit_pac89
+
+    d0 = lateral_sweeps_example[np.isclose(lateral_sweeps_example["camber"], 0.0)]
+    r = fit_pac89(d0, vary=["a0", "a2", "a3", "a4", "a7"], bounds={"a3": (100.0, 2457.0)})
+    assert 0.0 < 2457.0 - r.tyre.coefficients["a3"] <= 1e-6 * 2457.0
+    assert "a3" in r.at_bound["lateral"]
+    assert any("a3 ended at its upper bound 2457" in n for n in r.notes), r.notes
