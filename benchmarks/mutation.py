@@ -256,6 +256,8 @@ KNOWN_SURVIVORS = [
      "draws within 1e-9 of T: the W = +-1 draws (T* = T up to rounding)"),
     ("tyrefit/diagnose/stats.py", "rcond=2e-10, hermitian=True) @ sk)", "harmless",
      "the pseudo-inverse's cut-off at 2e-10 instead of 1e-10 of the largest singular value"),
+    ("tyrefit/diagnose/engine.py", "if ratio < MISFIT_RATIO or eng.G < 6:", "tie",
+     "a held-out RMSE of exactly MISFIT_RATIO x the noise floor"),
     # the same seed on the code of d316ab8 (fit_pac89 bounds=, fit_mf initial=): new sites
     ("tyrefit/fitting/engine.py", "hi = max(self.hi, 0.002)", "harmless",
      "a floor on the largest load [kN] behind the b5/c5 bounds; rig loads are hundreds of times larger"),

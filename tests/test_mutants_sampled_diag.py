@@ -302,3 +302,36 @@ def test_the_all_sweep_evidence_reports_the_fall_of_the_held_out_rmse(load_law_a
     assert before - after >= dg.settings.margin * dg.noise_floor
     reason = dg.candidates["curvature_load"].reason
     assert f"(every held-out sweep, extrapolated ends included: {before:.1f} -> {after:.1f} N" in reason
+
+
+def test_the_end_checks_slip_bins_are_the_mean_over_sweeps_of_each_sweeps_mean_residual():
+    """engine.py's end check: each of 8 slip bins reports the mean over sweeps of every sweep's mean residual there,
+    with its sweep-robust standard error, and names as 'slip ranges' exactly the bins whose mean exceeds 3 SE
+    (kills: per-sweep means as sums times counts [1062]; the flag at 3 / SE [1067])."""
+    from tyrefit.diagnose import diagnose
+    from tyrefit.synthetic.validation.cases import make_case
+
+    case = make_case("load6", "iid", "overload", 0)
+    dg = diagnose(case.data, start=[], seed=0)  # no rated load: the overload knee stays in the residual
+    d, r = dg.data, dg.steps[-1].fit.resid
+    a = d.inputs.slip_angle
+    ext = np.max(np.abs(a))
+    edges = np.linspace(-ext, ext, 9)
+    expect = []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        m = (a >= lo) & (a <= hi)
+        if m.sum() < 5:
+            continue
+        means = np.array([r[m & (d.sweep == g)].mean() for g in np.unique(d.sweep[m])])
+        expect.append((means.mean(), means.std(ddof=1) / np.sqrt(len(means))))
+    got = dg.unexplained["slip_bins"]
+    assert len(got) == len(expect)
+    for b, (mean, se) in zip(got, expect):
+        assert b["mean_N"] == pytest.approx(mean, rel=1e-9, abs=1e-9)
+        assert b["se_N"] == pytest.approx(se, rel=1e-9)
+    flagged = [b for b, (mean, se) in zip(got, expect) if abs(mean) > 3 * se]
+    where = " ".join(dg.unexplained.get("where") or [])
+    assert ("slip ranges" in where) == bool(flagged)
+    for b in got:
+        text = f"{b['slip_deg'][0]:.1f} to {b['slip_deg'][1]:.1f} deg"
+        assert (text in where) == (b in flagged[:3])
