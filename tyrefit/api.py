@@ -104,13 +104,20 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
 
 
 def diagnose(data, *, start: Sequence[str] | None = None, rated_load: float | None = None,
-             convention: str = "iso", seed: int = 0, channels: bool = True):
-    """What the start model misses, effect by effect, in Fy and (``channels``) in Mz and Fx where the
-    records carry them (:func:`tyrefit.diagnose.workflow`); ``data`` is one record or several of one tyre."""
-    from .diagnose import workflow
+             convention: str = "iso", seed: int = 0, channels: bool = True, base: str = "pac89",
+             patch=None, rig=None, vertical=None, static_part: str = "peak"):
+    """What the model misses, effect by effect (``tyrefit diagnose``: :func:`tyrefit.workflows.diagnose.diagnose`).
 
-    return workflow(data, start=start, rated_load=rated_load, convention=convention, seed=seed,
-                    channels=channels)
+    ``data`` is one record or several of one tyre (cornering and drive/brake).  ``base='pac89'`` grows PAC89 on
+    Fy and, with ``channels``, diagnoses Mz and Fx where the records carry them; ``base='mf61'`` / ``'mf52'``
+    diagnoses the Magic Formula tyre ``fit --model`` writes.  ``patch``, ``rig``, ``vertical``, ``static_part``
+    convert static-rig pushes as :func:`fit` does.
+    """
+    from .workflows.diagnose import diagnose as _diagnose
+
+    return _diagnose(data, start=start or (), rated_load=rated_load, convention=convention, seed=seed, base=base,
+                     channels=channels, patch=_path(patch), rig=_path(rig), vertical=_path(vertical),
+                     static_part=static_part)
 
 
 def compare(a, b, data=None, *, convention: str = "iso", names: Sequence[str] | None = None,

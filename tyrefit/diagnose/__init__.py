@@ -16,23 +16,6 @@ __all__ = ["diagnose", "Diagnosis", "Settings", "Step", "Candidate", "SweepData"
            "diagnose_channels", "combine_records"]
 
 
-def workflow(data, *, start=None, rated_load=None, convention: str = "iso", seed: int = 0,
-             channels: bool = True) -> Diagnosis:
-    """What the start model misses, effect by effect, with held-out evidence (``tyrefit diagnose`` as a function).
-
-    ``data``: a slip-angle record (path or Dataset), or several records of one tyre (a cornering and a
-    drive/brake record).  With ``channels`` (default) the aligning moment and the drive/brake force are
-    diagnosed too where the records carry them (:mod:`tyrefit.diagnose.channels`).  Returns
-    :class:`Diagnosis` (``accepted``, ``steps``, ``channels``, ``summary()``, ``report(dir)``).
-    """
-    from ..io.readers import read_data
-
-    items = list(data) if isinstance(data, (list, tuple)) else [data]
-    ds = combine_records([d if hasattr(d, "df") else read_data(d, convention=convention) for d in items])
-    dg = diagnose(ds, start=list(start or []), rated_load=rated_load, seed=int(seed))
-    if channels:
-        dg.channels, dg.channels_absent = diagnose_channels(ds, rated_load=rated_load, seed=int(seed))
-    return dg
-
-
-callable_package(__name__, workflow)
+#: ``tf.diagnose(...)``: the workflow of ``tyrefit diagnose`` (several records, every channel, ``base='mf61'``,
+#: static-rig pushes), which lives in the workflow layer above this package
+callable_package(__name__, "tyrefit.workflows.diagnose:diagnose")

@@ -8,8 +8,9 @@ catalogue (:mod:`tyrefit.effects.channels`):
 
 1. **Data.**  Mz comes from the cornering sweeps the lateral diagnosis reads (the same
    sweeps, levels and thinning, :func:`~tyrefit.diagnose.data.prepare`); Fx from the
-   drive/brake sweeps at zero slip angle (slip ratio swept by >= ``KAPPA_SWEPT``, slip
-   angle within ``ALPHA_PURE`` of zero).  Combined-slip sweeps stay out: PAC89 has no
+   drive/brake sweeps at zero slip angle (:func:`~tyrefit.diagnose.data.slip_ratio_segments`:
+   slip ratio swept by >= ``KAPPA_SWEPT``, median slip angle within ``ALPHA_PURE`` of zero).
+   Combined-slip sweeps stay out: PAC89 has no
    combined slip.
 2. **Start model.**  The channel's PAC89 part with the shape factor, one peak
    coefficient, the stiffness load law and a constant curvature
@@ -62,16 +63,12 @@ from ..fitting._blas import single_threaded_blas
 from ..fitting.core import Parameters, solve
 from ..fitting.noise import LagOneNoise, noise_floor
 from ..models import pac89
-from .data import SweepData, prepare, segments
+from .data import SweepData, prepare, segments, slip_ratio_segments
 
 __all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
-           "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS", "factor_levels", "KAPPA_SWEPT", "ALPHA_PURE"]
+           "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS"]
 
 _DEG = np.pi / 180.0
-#: a drive/brake sweep spans at least this slip ratio (2-98 % quantiles)
-KAPPA_SWEPT = 0.05
-#: ... at a slip angle within this of zero [rad] (a pure longitudinal sweep)
-ALPHA_PURE = 0.5 * _DEG
 #: the knot spacing of the noise floor's smooth curve, in the channel's slip unit
 _FLOOR_SPACING = {"fy": 1.5 * _DEG, "mz": 1.5 * _DEG, "fx": 0.02}
 #: unit of each channel
@@ -260,17 +257,12 @@ def _pure_longitudinal(df: pd.DataFrame, keep: list[str]) -> pd.DataFrame | None
     d = d[d[["fx", "slip_ratio", "fz"]].notna().all(axis=1) & (d["fz"] > 0)].reset_index(drop=True)
     if len(d) < 20:
         return None
+    if "slip_angle" not in d.columns:
+        d["slip_angle"] = 0.0
+    d["slip_angle"] = d["slip_angle"].fillna(0.0)
     _, _, _, seg = segments(d)
+    _, take, _ = slip_ratio_segments(d, seg)
     kap = d["slip_ratio"].to_numpy(float)
-    sa = d["slip_angle"].fillna(0.0).to_numpy(float) if "slip_angle" in d.columns else np.zeros(len(d))
-    take = np.zeros(len(d), dtype=bool)
-    for k in np.unique(seg):
-        m = seg == k
-        if m.sum() < 8:
-            continue
-        lo, hi = np.percentile(kap[m], [2, 98])
-        if hi - lo >= KAPPA_SWEPT and abs(float(np.median(sa[m]))) < ALPHA_PURE:
-            take[m] = True
     if take.sum() < 20:
         return None
     out = d[take].drop(columns=[c for c in ("slip_angle", "run") if c in d.columns])
@@ -729,16 +721,6 @@ def diagnose_channels(data, rated_load: float | None = None, seed: int = 0,
             # a channel whose start model cannot be fitted is reported, not allowed to sink the others
             absent[ch] = f"its start model could not be fitted ({exc})"
     return out, absent
-
-
-def factor_levels(cd: ChannelData, factor: str) -> np.ndarray:
-    """Level value of ``factor`` (a key of :data:`~tyrefit.diagnose.data.FACTORS`) at every point."""
-    sd = cd.sweeps
-    if factor not in sd.levels:
-        return np.zeros(len(cd.y))
-    return sd.levels[factor][sd.level_index[factor]]
-
-
 
 
 def effect_sizes(chd: ChannelDiagnosis) -> list[dict]:

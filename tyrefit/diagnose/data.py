@@ -199,10 +199,12 @@ def segments(d: pd.DataFrame) -> tuple[np.ndarray, dict, dict, np.ndarray]:
 KAPPA_SWEPT = 0.05
 #: ... while its slip angle spans less than this [rad] is a slip-ratio sweep, not a cornering sweep
 ALPHA_HELD = 2.0 * np.pi / 180.0
+#: a slip-ratio sweep whose median slip angle is within this of zero [rad] is pure drive/brake, else combined
+ALPHA_PURE = 0.5 * np.pi / 180.0
 
 
-def _slip_ratio_segments(d: pd.DataFrame, seg: np.ndarray) -> tuple[np.ndarray, dict]:
-    """Points of slip-ratio (drive/brake, combined) segments, and what they were.
+def slip_ratio_segments(d: pd.DataFrame, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Points of slip-ratio (drive/brake, combined) segments, those of the pure drive/brake ones, and what they were.
 
     A lateral slip-angle sweep on a rig carries slip-ratio noise and drift (FSAE TTC: +-0.01,
     more at large slip angles, and an offset from the rolling-radius estimate), so a segment
@@ -214,6 +216,7 @@ def _slip_ratio_segments(d: pd.DataFrame, seg: np.ndarray) -> tuple[np.ndarray, 
     kap = d["slip_ratio"].fillna(0.0).to_numpy(float)
     sa = d["slip_angle"].to_numpy(float)
     drop = np.zeros(len(d), dtype=bool)
+    pure = np.zeros(len(d), dtype=bool)
     n_comb = n_long = 0
     angles = []
     for k in np.unique(seg):
@@ -223,14 +226,15 @@ def _slip_ratio_segments(d: pd.DataFrame, seg: np.ndarray) -> tuple[np.ndarray, 
         if hi - lo >= KAPPA_SWEPT and ahi - alo < ALPHA_HELD:
             drop[m] = True
             a = float(np.median(sa[m]))
-            if abs(a) < 0.5 * np.pi / 180.0:
+            if abs(a) < ALPHA_PURE:
+                pure[m] = True
                 n_long += 1
             else:
                 n_comb += 1
                 angles.append(a)
     info = {"combined_sweeps": n_comb, "longitudinal_sweeps": n_long, "points": int(drop.sum()),
             "slip_angles": sorted({round(a * 180.0 / np.pi) * np.pi / 180.0 for a in angles})}
-    return drop, info
+    return drop, pure, info
 
 
 def _slip_ratio_note(info: dict) -> str:
@@ -326,7 +330,7 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = M
         d, camber, seg = d[ok].reset_index(drop=True), camber[ok], seg[ok]
         lidx = {f: v[ok] for f, v in lidx.items()}
     if "slip_ratio" in d.columns:
-        drop, info = _slip_ratio_segments(d, seg)
+        drop, _, info = slip_ratio_segments(d, seg)
         if drop.all():
             raise DataError(f"{source or 'data'}: only slip-ratio sweeps ({info['longitudinal_sweeps']} drive/brake, "
                             f"{info['combined_sweeps']} combined); diagnose reads lateral-force slip-angle sweeps - "

@@ -208,7 +208,8 @@ def _basis(eid: str, cd: ChannelData, pred: np.ndarray, fnomin: float, rated: fl
     return dfz * dfz * w
 
 
-def _ladder_channel(cd: ChannelData, tyre, fnomin: float, rated, alpha: float, margin: float) -> LadderChannel:
+def _ladder_channel(cd: ChannelData, tyre, fnomin: float, rated, alpha: float, margin: float,
+                    seed: int = 0) -> LadderChannel:
     pred = _predict(tyre, cd)
     r = pred - cd.y
     ok = np.isfinite(r)
@@ -229,7 +230,7 @@ def _ladder_channel(cd: ChannelData, tyre, fnomin: float, rated, alpha: float, m
     w = _peak_weighted(cd, pred)
     dfz = (cd.inputs.fz - fnomin) / fnomin
     law = np.column_stack([w, dfz * w])
-    rho_of = LagOneNoise(cd.slip, cd.sweep, upper=0.9)
+    rho_of = LagOneNoise(cd.slip, cd.sweep, seed=seed, upper=0.9)
     cur = r.copy()
     for eid in ids:
         b = bases[eid]
@@ -310,5 +311,5 @@ def diagnose_mf(records, *, model: str = "mf61", rated_load: float | None = None
         if isinstance(cd, str):
             absent[ch] = cd
             continue
-        chans[ch] = _ladder_channel(cd, tyre, fnomin, rated_load, alpha, margin)
+        chans[ch] = _ladder_channel(cd, tyre, fnomin, rated_load, alpha, margin, seed)
     return LadderDiagnosis(model, res, chans, absent, _held_by_channel(res), seconds=time.perf_counter() - t0)
