@@ -335,3 +335,36 @@ def test_the_end_checks_slip_bins_are_the_mean_over_sweeps_of_each_sweeps_mean_r
     for b in got:
         text = f"{b['slip_deg'][0]:.1f} to {b['slip_deg'][1]:.1f} deg"
         assert (text in where) == (b in flagged[:3])
+
+
+def test_a_score_tests_p_value_counts_the_sign_patterns_that_reproduce_the_statistic():
+    """stats.py [133] ``score_test`` (``Tb >= T * (1 - 1e-9)`` -> ``Tb >= T * 1``: draws equal to T up to rounding).
+
+    The docstring's null distribution flips the sign of each sweep's score (w_g = +/-1) and counts
+    p = (1 + #{T* >= T}) / (n_boot + 1).  Flipping every sweep alike (w = +1 or w = -1 for all) gives
+    T* = T exactly (the statistic is even), so with G sweeps p can never fall below about 2 / 2^G: with 3
+    sweeps and a strong effect, whose mixed patterns all fall short of T, p is the share 2/8 of the patterns
+    that reproduce the data.  The mutant counts those draws only when the bootstrap's arithmetic rounds T*
+    up to T, and reports p ~ 1/(n_boot + 1) = 0.0005 for some data: a significance 3 sweeps cannot give.
+    """
+    import itertools
+
+    from tyrefit.diagnose.stats import score_test
+
+    G, n = 3, 8
+    cluster = np.repeat(np.arange(G), n)
+    signs = np.array(list(itertools.product([-1.0, 1.0], repeat=G)))
+    for seed in range(12):
+        rng = np.random.default_rng(seed)
+        J_model, J_new = rng.standard_normal((G * n, 2)), rng.standard_normal((G * n, 2))
+        r = rng.standard_normal(G * n) + 2.0 * J_new[:, 0]
+        t = score_test(J_model, J_new, r, cluster, G, np.random.default_rng(1), n_boot=1999)
+        # the exact share over the 2^G patterns: the two uniform ones reproduce T, the mixed ones are computed
+        Q, _ = np.linalg.qr(J_model)
+        S = np.array([(J_new - Q @ (Q.T @ J_new))[cluster == g].T @ r[cluster == g] for g in range(G)])
+        Vp = np.linalg.pinv(S.T @ S)
+        T_star = np.einsum("bi,ij,bj->b", signs @ S, Vp, signs @ S)
+        uniform = np.all(signs == signs[:, :1], axis=1)
+        exact = float(np.mean(uniform | (T_star >= t.statistic)))
+        assert t.statistic == pytest.approx(float(S.sum(0) @ Vp @ S.sum(0)), rel=1e-9)
+        assert t.p_value == pytest.approx(exact, abs=0.04), (seed, t.p_value, exact)

@@ -216,6 +216,32 @@ def test_segmentation_reports_each_sweeps_samples_and_the_levels_in_their_units(
     assert meta["levels"]["fz"] == pytest.approx([1000.0], rel=1e-6)          # N
 
 
+
+def test_a_short_dwell_before_a_sweep_of_a_10_hz_record_is_trimmed_to_the_sweeps_start():
+    """segment.py [255] ``segment_record`` (the dwell's slip taken as the median of the stretch's first
+    ``max(6, h)`` samples instead of ``max(3, h)``).
+
+    The module docstring, step 4: the constant-slip dwell before the sweep starts is trimmed; the sweep
+    keeps the last dwell sample as its starting point.  A 10 Hz record (0.5 s window: 5 samples) holds
+    0.3 s (3 samples) at zero slip, then sweeps 0 -> +12 -> -12 -> 0 deg at 12 deg/s, twice.  The mutant's
+    first six samples reach into the sweep, their median lies off the dwell by more than the 2 % band, and
+    the whole dwell is kept as part of the first sweep: three points at zero slip where the data have one.
+    """
+    import pandas as pd
+
+    from tyrefit.io.segment import segment_record
+
+    one = np.r_[np.arange(0.0, 12.0, 1.2), np.arange(12.0, -12.0, -1.2), np.arange(-12.0, 1e-9, 1.2)]
+    deg = np.r_[0.0, 0.0, one, one[1:], np.zeros(5)]
+    df = pd.DataFrame({"time": 0.1 * np.arange(deg.size), "fz": 3000.0, "camber": 0.0,
+                       "slip_angle": np.radians(deg), "fy": -3000.0 * np.sin(1.3 * np.arctan(0.2 * deg))})
+    out, meta = segment_record(df, "slip_angle")
+    assert meta["window"] == 5
+    first = np.degrees(out.loc[out["run"] == 0, "slip_angle"].to_numpy())
+    assert first[0] == 0.0 and first[1] == pytest.approx(1.2)  # one dwell sample: the sweep's start
+    assert meta["dropped"]["dwell at constant slip"] == 2 + 5
+
+
 # ------------------------------------------------------------------------------ readers (tyrefit/io/readers.py)
 def _sweeps_dataset(pressures_kpa, loads=(3000.0, 5000.0)):
     import pandas as pd
