@@ -16,6 +16,7 @@ import math
 from pathlib import Path
 
 from ..errors import DataError
+from ..io.facets import channel_levels, format_condition, format_levels, sweep_conditions
 from ..io.outputs import check_outputs
 from ..workflows.fit import _effect_ids, fit, fit_pac89_record, read_checked
 from .fit_mf import print_plausibility, run_mf
@@ -171,11 +172,7 @@ def _print_warnings(result) -> None:
 
 
 def _merged_line(channel, levels) -> str:
-    from ..io.facets import _DISPLAY, _decimals
-
-    f, unit, _ = _DISPLAY[channel]
-    d = _decimals(channel, levels)
-    return (f"{len(levels)} {channel} levels ({', '.join(f'{x * f:.{d}f}' for x in levels)}{unit}) fitted as one "
+    return (f"{len(levels)} {channel} levels ({format_levels(channel, levels)}) fitted as one "
             f"tyre (PAC89 has no {channel} input); --by {channel} writes one tyre per level")
 
 
@@ -194,7 +191,6 @@ def _run_by(args, out: Path) -> int:
 
     import pandas as pd
 
-    from ..io.facets import channel_levels, format_condition, sweep_conditions
     from ..io.outputs import check_output, write_text
 
     ch = args.by

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 from ..io.facets import _decimals, format_condition, format_load
+from ..io.levels import group_levels
 
 __all__ = ["sweep_characteristics", "SignatureView", "SIGNATURES", "plot"]
 
@@ -153,17 +154,19 @@ SIGNATURES: dict[str, tuple[str, str]] = {
 def _levels(v: pd.Series, tol: float) -> pd.Series:
     """Snap per-sweep condition values to their set-point level (for grouping).
 
-    Sorted values start a new level where the gap to the previous value
-    exceeds ``tol`` and 5 % of the range; each value maps to its level's mean.
+    Levels by :func:`tyrefit.io.levels.group_levels`: sorted values start a new
+    level where the gap to the previous value exceeds ``tol`` and 5 % of the
+    range; each value maps to its level's mean.  A value not recorded (NaN)
+    takes the highest level's mean, as the sorted NaN closed the last group
+    before the grouping moved to ``group_levels``.
     """
     if v.isna().all():
         return v
     vals = v.to_numpy(dtype=float)
-    order = np.argsort(vals)
-    sv = vals[order]
-    gap = max(tol, 0.05 * (np.nanmax(sv) - np.nanmin(sv)))
-    group = np.r_[0, np.cumsum(np.diff(sv) > gap)]
-    means = pd.Series(sv).groupby(group).transform("mean").to_numpy()
+    _, level = group_levels(vals, tol, 0.05, relative_to="range")
+    level = np.where(level < 0, level.max(), level)
+    order = np.argsort(vals)  # the mean of each level summed in ascending order, as pandas did before
+    means = pd.Series(vals[order]).groupby(level[order]).transform("mean").to_numpy()
     out = np.empty_like(vals)
     out[order] = means
     return pd.Series(out, index=v.index)

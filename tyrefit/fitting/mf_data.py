@@ -17,8 +17,8 @@ import numpy as np
 import pandas as pd
 
 from ..errors import DataError, option
+from ..io.levels import group_levels
 from ..io.readers import read_data
-from . import initial as ini
 from .mf_result import _noise_floor
 
 __all__ = ["MFData", "prepare_mf_data", "channel_signal", "condition_levels", "SIGNAL_RATIO", "FREE_ROLLING_FX"]
@@ -268,24 +268,14 @@ def channel_signal(data: MFData, channel: str) -> tuple[float, float, str]:
 
 # ------------------------------------------------------------------------ condition levels
 def _levels(values, tol: float) -> list[float]:
-    v = np.sort(np.asarray(values, float))
-    v = v[np.isfinite(v)]
-    if v.size == 0:
-        return []
-    out, grp = [], [v[0]]
-    for x in v[1:]:
-        if x - grp[-1] > tol:
-            out.append(float(np.mean(grp)))
-            grp = []
-        grp.append(x)
-    out.append(float(np.mean(grp)))
-    return out
+    """Levels of ``values`` [SI]: gap clustering with the absolute tolerance ``tol`` (:func:`tyrefit.io.levels.group_levels`)."""
+    return [float(x) for x in group_levels(values, tol)[0]]
 
 
 def condition_levels(sweeps: pd.DataFrame) -> dict[str, list[float]]:
     """Levels of load [N], camber [rad], |camber|, pressure [Pa], speed [m/s] and slip angle of ``sweeps``."""
     fz = sweeps["fz"].to_numpy(float)
-    lv = ini.load_levels(fz) if len(fz) else np.array([], int)
+    lv = group_levels(fz, 100.0, 0.04)[1]  # loads within max(100 N, 4 % of the largest load)
     loads = sorted(float(np.mean(fz[lv == k])) for k in np.unique(lv)) if len(fz) else []
     cam_tol = 0.25 * _DEG
     return {"fz": loads,

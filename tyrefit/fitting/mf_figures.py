@@ -18,9 +18,9 @@ Condition levels
 ----------------
 A sweep's condition is its pressure, camber and speed level (and, for a
 combined-slip sweep, its slip-angle level); levels are clusters of the sweeps'
-means (:func:`tyrefit.fitting.initial.load_levels`: pressure within 5 kPa or
-2 %, camber within 0.5 deg, speed within 1 m/s or 5 %, slip angle within
-0.5 deg), so a pressure that creeps up 3 kPa with tread temperature stays one
+means (gap clustering of :func:`tyrefit.io.levels.group_levels` within
+max(atol, rtol x the largest value): pressure within 5 kPa or 2 %, camber
+within 0.5 deg, speed within 1 m/s or 5 %, slip angle within 0.5 deg), so a pressure that creeps up 3 kPa with tread temperature stays one
 level.  Loads are clustered over every sweep of the fit and keep one colour in
 every figure.
 
@@ -54,7 +54,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from .initial import load_levels
+from ..io.levels import group_levels
 from ..models import mf61
 
 __all__ = ["VIEWS", "sweep_levels", "condition_cells", "nominal_slice", "views", "panels", "plot_curves",
@@ -89,16 +89,6 @@ _COND = ("p", "v", "g", "a")  # pressure, speed, camber, slip angle (combined on
 
 
 # ---------------------------------------------------------------------------------------- levels
-def _levels(x, rel_tol: float, abs_tol: float) -> np.ndarray:
-    """Cluster index of each value (``load_levels``); -1 where not finite."""
-    x = np.asarray(x, float)
-    out = np.full(x.size, -1, int)
-    ok = np.isfinite(x)
-    if ok.any():
-        out[ok] = load_levels(x[ok], rel_tol, abs_tol)
-    return out
-
-
 def sweep_levels(df: pd.DataFrame) -> pd.DataFrame:
     """One row per sweep (``run``): kind, mean conditions and their levels.
 
@@ -111,15 +101,15 @@ def sweep_levels(df: pd.DataFrame) -> pd.DataFrame:
     sw = df.groupby("run", sort=True).agg(kind=("kind", "first"), fz=("fz", "mean"), pressure=("pressure", "mean"),
                                           camber=("camber", "mean"), speed=("speed", "mean"),
                                           alpha=("slip_angle", "median"), n=("fz", "size"))
-    sw["load"] = _levels(sw["fz"], 0.04, 100.0)
+    sw["load"] = group_levels(sw["fz"], 100.0, 0.04)[1]
     sw["fz_cell"] = sw.groupby("load")["fz"].transform("mean")
-    for key, col, rel, ab in (("p", "pressure", 0.02, 5e3), ("v", "speed", 0.05, 1.0),
-                              ("g", "camber", 0.0, 0.5 * _DEG)):
-        sw[key] = _levels(sw[col], rel, ab)
+    for key, col, ab, rel in (("p", "pressure", 5e3, 0.02), ("v", "speed", 1.0, 0.05),
+                              ("g", "camber", 0.5 * _DEG, 0.0)):
+        sw[key] = group_levels(sw[col], ab, rel)[1]
         sw[f"{key}_cell"] = sw[col].groupby(sw[key]).transform("mean").where(sw[key] >= 0)
     comb = (sw["kind"] == "combined").to_numpy()
     a = np.full(len(sw), -1, int)
-    a[comb] = _levels(sw["alpha"].to_numpy(float)[comb], 0.0, 0.5 * _DEG)
+    a[comb] = group_levels(sw["alpha"].to_numpy(float)[comb], 0.5 * _DEG)[1]
     sw["a"] = a
     sw["a_cell"] = sw["alpha"].groupby(sw["a"]).transform("mean").where(sw["a"] >= 0, 0.0)
     return sw

@@ -54,7 +54,7 @@ from . import result_figures, result_report
 from .result_base import TyreFitResult
 from .result_figures import _LABEL, _RAD_TO_DEG, describe_constant_text, unfitted_figures  # noqa: F401 (re-exported)
 from .result_report import _COST_TEXT, NOISE_FLOOR_DEFINITION
-from ..io.facets import _DISPLAY, _decimals, channel_levels, sweep_conditions
+from ..io.facets import channel_levels, format_levels, sweep_conditions
 
 __all__ = ["FitResult", "noise_floor_of", "NOISE_FLOOR_DEFINITION"]
 
@@ -541,10 +541,8 @@ def _merged_levels(fits: dict) -> dict:
 
 
 def _merged_text(channel: str, levels) -> str:
-    f, unit, _ = _DISPLAY[channel]
-    d = _decimals(channel, levels)
-    lv = ", ".join(f"{x * f:.{d}f}" for x in levels)
-    return (f"{channel}: not in the model (PAC89 has no {channel} input): {len(levels)} levels ({lv}{unit}) "
+    return (f"{channel}: not in the model (PAC89 has no {channel} input): {len(levels)} levels "
+            f"({format_levels(channel, levels)}) "
             f"merged into one tyre; `tyrefit fit --by {channel}` writes one tyre per level")
 
 

@@ -11,7 +11,8 @@ the same levels under the same names.
 Design choices
 --------------
 * **The same clustering as segmentation.**  The levels of a channel are the
-  histogram peaks of :func:`tyrefit.io.segment._levels` (bins of half the
+  histogram peaks of :func:`tyrefit.io.levels.group_levels` with
+  ``method="peaks"``, the clustering of segmentation (bins of half the
   step tolerance, :data:`tyrefit.io.segment.DEFAULT_TOLERANCES`: camber
   0.2 deg, pressure 5 kPa, speed 2 km/h, slip angle 0.5 deg), applied to the
   mean value of each sweep (one count per sweep).  Each sweep then belongs to
@@ -33,10 +34,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .segment import DEFAULT_TOLERANCES, _levels
+from .levels import group_levels
+from .segment import DEFAULT_TOLERANCES
 
 __all__ = ["Facet", "sweep_conditions", "channel_levels", "facet_sweeps", "pages", "format_condition",
-           "format_load", "FACET_CHANNELS"]
+           "format_levels", "format_load", "FACET_CHANNELS"]
 
 _DEG = math.pi / 180.0
 #: channel -> (display factor from SI, unit, name in titles)
@@ -87,11 +89,7 @@ def channel_levels(values, channel: str, tolerance: float | None = None) -> tupl
         tolerance = DEFAULT_TOLERANCES[channel]
         if channel == "fz":
             tolerance = max(tolerance, 0.05 * float(np.median(np.abs(v[ok]))))
-    lv = np.asarray(_levels(v[ok], float(tolerance), 1), float)
-    if lv.size == 0:  # pragma: no cover - _levels always finds one level for non-empty input
-        lv = np.array([float(np.median(v[ok]))])
-    idx = np.argmin(np.abs(np.where(ok, v, lv[0])[:, None] - lv[None, :]), axis=1)
-    return lv, np.where(ok, idx, -1)  # -1: not recorded for that sweep
+    return group_levels(v, float(tolerance), method="peaks")  # index -1: not recorded for that sweep
 
 
 def _decimals(channel: str, levels) -> int:
@@ -114,6 +112,13 @@ def format_condition(channel: str, value: float, decimals: int | None = None) ->
     if x == 0:
         x = 0.0  # never '-0.0'
     return f"{name} {x:.{d}f}{unit}"
+
+
+def format_levels(channel: str, levels) -> str:
+    """The levels of one channel in display units, for messages: ``'200, 230, 260 kPa'`` (from SI)."""
+    f, unit, _ = _DISPLAY[channel]
+    d = _decimals(channel, levels)
+    return f"{', '.join(f'{x * f:.{d}f}' for x in levels)}{unit}"
 
 
 def format_load(fz: float) -> str:

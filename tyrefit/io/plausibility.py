@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import ValueRangeError, option
+from .levels import group_levels
 
 __all__ = ["Finding", "mirrored_findings", "check_mirrored", "camber_thrust", "pneumatic_trail", "fx_slip_slope"]
 
@@ -118,8 +119,8 @@ def pneumatic_trail(df: pd.DataFrame) -> dict | None:
         return None
     s = s.assign(trail=-s["mz_slope"] / s["fy_slope"]).sort_values("fz")
     fz = s["fz"].to_numpy(float)
-    gap = np.diff(fz) > np.maximum(100.0, 0.05 * np.abs(fz[1:]))
-    level = np.concatenate([[0], np.cumsum(gap)])
+    _, level = group_levels(fz, 100.0, 0.05, relative_to="value")  # loads within 100 N or 5 %
+    level = np.where(level < 0, max(int(level.max()), 0), level)  # an unrecorded load: the last level, as before
     levels = [(float(np.median(fz[level == k])), float(np.median(s["trail"].to_numpy(float)[level == k])))
               for k in range(int(level.max()) + 1)]
     return {"levels": levels, "sweeps": len(s)}
