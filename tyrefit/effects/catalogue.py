@@ -81,7 +81,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from ..errors import DataError, close_matches
+from ..errors import DataError, close_matches, option, render
 from .base import DataSummary, Effect, ModelInputs, Param, PhysicsCard
 from .factors import KNEE_HALF_WIDTH, overload_factor, relative_factor
 
@@ -116,7 +116,7 @@ def _loads(n: int, reach_deg: float = 0.0):
 
 def _overload(s: DataSummary) -> str | None:
     if s.rated_load is None:
-        return "needs the rated load (--rated-load NEWTONS)"
+        return render(f"needs the rated load ({option('rated_load', 'NEWTONS')})")
     above = [f for f in s.fz_levels if f > 1.02 * s.rated_load]
     below = [f for f in s.fz_levels if f <= 1.02 * s.rated_load]
     if not above:
@@ -358,7 +358,7 @@ _CARD_OVERLOAD = PhysicsCard(
           "road and the friction coefficient drops faster than the smooth load trend."),
     size=("Komana et al. measure a static mu of about 0.75 below the rated 4250 kg of a 385/65R22.5 truck "
           "tyre and lower above it; 5-20 % loss of mu at 40 % overload is typical."),
-    test="Lateral-force sweeps at loads below and above the rated load (give --rated-load).",
+    test="Lateral-force sweeps at loads below and above the rated load (give rated_load).",
     vehicle=("An overloaded axle loses grip and cornering stiffness: lower yaw damping and more rearward "
              "amplification in PBS manoeuvres (seed 003)."),
     sources=("Komana et al. (seed 003), Sec. 2 (patch shape, Fig. 1) and Sec. 4.2 (friction above the rated load)",))
@@ -406,7 +406,7 @@ _CARD_ASYMMETRY = PhysicsCard(
 
 _NOT_PAC89_ASYMMETRY = (
     "not representable in PAC89: its curvature E = a6 Fz + a7 is the same on both slip sides. MF 6.1 carries "
-    "it as PEY3 (fit --model mf61); in a PAC89 file the curve's two sides are averaged.")
+    "it as PEY3 (a fit with model=\"mf61\"); in a PAC89 file the curve's two sides are averaged.")
 
 _CARD_PRESSURE = PhysicsCard(
     what=("Inflation pressure stiffens the carcass and shortens and narrows the contact patch: cornering "
@@ -511,19 +511,19 @@ def _effects() -> list[Effect]:
                pac89_note=_NOT_PAC89_CURVED_CURVATURE, extra={"pac89_variant": "curvature_load"},
                refinement=True),
         Effect("overload", "overload", "grip falling above the rated load", (_OV_MU,),
-               "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,
+               "loads above the rated load and >= 2 levels at or below it; rated_load", _overload,
                _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload, pac89_approx=("a1",),
                pac89_note=_NOT_PAC89_OVERLOAD, requires_rated_load=True),
         Effect("overload_knee", "overload", "grip falling above the rated load, with the knee width fitted",
-               (_OV_MU, _OV_W), "loads above the rated load and >= 2 levels at or below it; --rated-load",
+               (_OV_MU, _OV_W), "loads above the rated load and >= 2 levels at or below it; rated_load",
                _overload, _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload_knee, pac89_approx=("a1",),
                pac89_note=_NOT_PAC89_OVERLOAD, requires_rated_load=True),
         Effect("overload_degressive", "overload", "grip falling above the rated load, on a degressive load trend",
-               (_A1, _OV_MU), "loads above the rated load and >= 2 levels at or below it; --rated-load", _overload,
+               (_A1, _OV_MU), "loads above the rated load and >= 2 levels at or below it; rated_load", _overload,
                _CARD_OVERLOAD, "peak_mu_vs_fz", apply=_apply_overload, pac89=("a1",), pac89_approx=("a1",),
                pac89_note=_NOT_PAC89_OVERLOAD, requires_rated_load=True),
         Effect("overload_stiffness", "overload", "grip and cornering stiffness falling above the rated load",
-               (_OV_MU, _OV_KY), "loads above the rated load and >= 2 levels at or below it; --rated-load",
+               (_OV_MU, _OV_KY), "loads above the rated load and >= 2 levels at or below it; rated_load",
                _overload, _CARD_OVERLOAD, "stiffness_vs_fz", apply=_apply_overload_stiffness,
                pac89_approx=("a1",), pac89_note=_NOT_PAC89_OVERLOAD + " The stiffness fall is absorbed by a4 at "
                "best (BCD = a3 sin(2 atan(Fz/a4)) peaks at Fz = a4).", requires_rated_load=True),

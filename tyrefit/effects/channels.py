@@ -252,7 +252,7 @@ def _effects() -> list[Effect]:
                      _PRESSURE_TEST, "steering torque after a pressure change",
                      _PACEJKA + ", Eq. 4.E42 (PPZ1), Eq. 4.E47 (PPZ2)"),
                signature="none", apply=_apply_mz_pressure,
-               pac89_note="PAC89 has no pressure terms: fit MF 6.1 (`tyrefit fit --model mf61`), PPZ1 and PPZ2"),
+               pac89_note="PAC89 has no pressure terms: fit MF 6.1 (model=\"mf61\"), PPZ1 and PPZ2"),
         Effect("mz_asymmetry", "mz_asymmetry", "aligning curvature differing between slip signs",
                (Param("mz_asym", 0.0, (-0.95, 0.95), (-0.5, 0.5), "-", 0.2,
                       "relative change of the curvature E of Mz for positive against negative slip"),),
@@ -265,7 +265,7 @@ def _effects() -> list[Effect]:
                      "steering torque at the limit differing between left and right turns",
                      _PACEJKA + ", Eq. 4.E44 (QEZ4)"),
                signature="none", apply=_apply_mz_asymmetry,
-               pac89_note="PAC89 has one curvature for both sides: fit MF 5.2/6.1 (`--model mf61`), QEZ4"),
+               pac89_note="PAC89 has one curvature for both sides: fit MF 5.2/6.1 (model=\"mf61\"), QEZ4"),
         # ---- longitudinal force ---------------------------------------------------------------
         Effect("fx_load_friction", "fx_load_friction", "longitudinal friction falling with load", (P["b1"],),
                ">= 2 load levels", _loads(2),
@@ -301,7 +301,7 @@ def _effects() -> list[Effect]:
                      "a few % of mu_x at 4 deg", _CAMBER_TEST.replace("the same loads", "drive/brake, the same loads"),
                      "braking and traction of a cambered axle", _PACEJKA + ", Eq. 4.E13 (PDX3)"),
                signature="none", apply=_apply_fx_camber,
-               pac89_note="PAC89's longitudinal part has no camber: fit MF 6.1 (`--model mf61`), PDX3"),
+               pac89_note="PAC89's longitudinal part has no camber: fit MF 6.1 (model=\"mf61\"), PDX3"),
         Effect("fx_offsets", "fx_offsets", "slip shift of the Fx curve", (P["b10"],),
                "drive/brake sweeps through zero slip", lambda s: None,
                _card("The Fx curve crosses zero off zero slip: the effective rolling radius the rig used "
@@ -326,7 +326,7 @@ def _effects() -> list[Effect]:
                      "energy use, coast-down, the traction needed to hold speed",
                      _PACEJKA + ", Eq. 4.E18 (PVX1)"),
                signature="none", apply=_apply_fx_rolling,
-               pac89_note="PAC89's longitudinal Sv is 0: fit MF 6.1 (`--model mf61`), PVX1, PVX2"),
+               pac89_note="PAC89's longitudinal Sv is 0: fit MF 6.1 (model=\"mf61\"), PVX1, PVX2"),
         Effect("fx_asymmetry", "fx_asymmetry", "longitudinal curvature differing between drive and braking",
                (Param("fx_asym", 0.0, (-0.95, 0.95), (-0.8, 0.8), "-", 0.2,
                       "relative change of the curvature E of Fx in drive against braking (MF PEX4)"),),
@@ -338,7 +338,7 @@ def _effects() -> list[Effect]:
                      "drive/brake sweeps to +-20 % slip", "locked-wheel braking against wheel spin",
                      _PACEJKA + ", Eq. 4.E14 (PEX4)"),
                signature="none", apply=_apply_fx_asymmetry,
-               pac89_note="PAC89 has one curvature for drive and braking: fit MF 6.1 (`--model mf61`), PEX4"),
+               pac89_note="PAC89 has one curvature for drive and braking: fit MF 6.1 (model=\"mf61\"), PEX4"),
         Effect("fx_pressure", "fx_pressure", "inflation pressure on longitudinal grip and stiffness",
                (Param("fx_p_friction", 0.0, (-3.0, 3.0), (-1.0, 1.0), "1/(dp/p0)", 0.3,
                       "relative change of mu_x per relative pressure change (PPX3)"),
@@ -351,7 +351,7 @@ def _effects() -> list[Effect]:
                      "braking distance and ABS tuning after a pressure change",
                      _PACEJKA + ", Eq. 4.E13 (PPX3), Eq. 4.E15 (PPX1)"),
                signature="none", apply=_apply_fx_pressure,
-               pac89_note="PAC89 has no pressure terms: fit MF 6.1 (`--model mf61`), PPX1-PPX4"),
+               pac89_note="PAC89 has no pressure terms: fit MF 6.1 (model=\"mf61\"), PPX1-PPX4"),
     ]
     return out
 

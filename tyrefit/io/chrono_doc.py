@@ -30,7 +30,7 @@ import os
 import re
 from pathlib import Path
 
-from ..errors import FormatError, ModelError
+from ..errors import FormatError, ModelError, option
 from ..models import pac89
 from .inputs import read_input_bytes
 from .outputs import write_text
@@ -136,15 +136,18 @@ REQUIRED_DESIGN = ("Unloaded Radius", "Width", "Lateral Stiffness", "Vertical St
 
 
 def _flags_for(missing: list[str]) -> str:
-    """The ``fit`` flags that give the missing Chrono keys (see :func:`tyrefit.tyres.size.complete_design`)."""
+    """The ``fit`` arguments that give the missing Chrono keys (see :func:`tyrefit.tyres.size.complete_design`);
+    :func:`tyrefit.errors.option` names them, so the command line reads them as flags."""
     geometry = {"Unloaded Radius", "Width", "Mass", "Inertia"} & set(missing)
     stiffness = {"Vertical Stiffness", "Lateral Stiffness", "Vertical Damping"} & set(missing)
     flags = []
     if geometry:
-        flags.append("--size (e.g. 385/65R22.5: radius and width; mass and inertia estimated from them)")
+        flags.append(f"{option('size', 'SIZE')} (e.g. 385/65R22.5: radius and width; mass and inertia estimated "
+                     "from them)")
     if stiffness:
-        flags.append("--rated-load NEWTONS (vertical stiffness estimated as 15 % deflection of the section height, "
-                     "lateral stiffness and damping from it) or --vertical VERTICAL.csv (measured)")
+        flags.append(f"{option('rated_load', 'NEWTONS')} (vertical stiffness estimated as 15 % deflection of the "
+                     f"section height, lateral stiffness and damping from it) or {option('vertical', 'VERTICAL.csv')} "
+                     "(measured)")
     if "Rolling Resistance" in missing:
         flags.append("a rolling resistance")
     return "give fit " + " and ".join(flags)
@@ -157,8 +160,8 @@ def chrono_dict(tyre, mass: float | None = None, inertia=None) -> dict:
     ------
     ModelError
         a value Chrono needs is unknown (radius, width, stiffnesses, damping,
-        mass, inertia); the message names them and the ``fit`` flags that
-        give them.
+        mass, inertia); the message names them and the ``fit`` arguments
+        (flags on the command line) that give them.
     """
     mass = tyre.mass if mass is None else mass
     inertia = tyre.inertia if inertia is None else inertia

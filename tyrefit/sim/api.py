@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import DataError, ValueRangeError, option
+from ..errors import DataError, ValueRangeError, option, render
 from ..nomenclature import G0
 from .vehicle_file import VehicleSpec, load_vehicle
 from ..tyres.base import Tyre
@@ -194,9 +194,9 @@ def _paper_notes(doc: dict, scenario: str, spec: VehicleSpec) -> dict:
              "aero load"]
     k = doc.get("setup", {}).get("k")
     if k is not None and abs(k - 1.0) < 1e-12:
-        notes.append("k = 1: the front (low-wear) and rear tyres have the same peak friction (the same tyre on "
-                     "both axles?), so the allocator has nothing to trade: no emission cut and no stopping-distance "
-                     "penalty by construction; give a harder --front tyre")
+        notes.append(render("k = 1: the front (low-wear) and rear tyres have the same peak friction (the same tyre "
+                            "on both axles?), so the allocator has nothing to trade: no emission cut and no "
+                            f"stopping-distance penalty by construction; give a harder front tyre ({option('front')})"))
     if spec.downforce_area != 0 or spec.rolling_resistance != 0:
         notes.append(f"vehicle {spec.name!r} declares downforce_area {spec.downforce_area:g} m^2 and "
                      f"rolling_resistance {spec.rolling_resistance:g}: not used by this scenario")

@@ -179,7 +179,7 @@ def design_estimates(*, unloaded_radius: float, width: float, rim_radius: float 
     if k is None:
         if not rated_load:  # mass and inertia stand; stiffness and damping need a load or a vertical test
             out["not_estimated"] = (None, "VERTICAL_STIFFNESS, LATERAL_STIFFNESS, VERTICAL_DAMPING not estimated: "
-                                          "give a vertical test (--vertical) or the rated load (--rated-load)")
+                                          "give a vertical test (vertical=) or the rated load (rated_load=)")
             return out
         height = max(R - r, 1e-3)
         k = rated_load / (0.15 * height)

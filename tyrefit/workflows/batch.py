@@ -74,7 +74,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import DataError, OutputExistsError, TyrefitError, option
+from ..errors import DataError, OutputExistsError, TyrefitError, option, render
 from ..io.outputs import write_text
 from .._version import __version__
 from ..io.report import Report
@@ -695,9 +695,10 @@ def scheduler_warning(address: tuple[str, str, int]) -> str | None:
     scheme, host, port = address
     if scheme == "tls" or is_loopback(host):
         return None
-    return (f"--scheduler {scheme}://{host}:{port} is not on this machine and not TLS: the fits are sent "
-            "there as pickled Python and the answers unpickled here, so whoever controls that address or "
-            "the network between runs code in tyrefit; use tls:// with Dask's security options (README, batch)")
+    return render(f"{option('scheduler', f'{scheme}://{host}:{port}')} is not on this machine and not TLS: the fits "
+                  "are sent there as pickled Python and the answers unpickled here, so whoever controls that address "
+                  "or the network between runs code in tyrefit; use tls:// with Dask's security options (README, "
+                  "batch)")
 
 
 def _dask_client(scheduler):

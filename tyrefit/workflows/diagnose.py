@@ -43,10 +43,10 @@ def diagnose_records(records: Sequence, *, start=(), rated_load: float | None = 
     if base != "pac89":
         if start:
             raise DataError(f"{option('start')} names PAC89 effects; with {option('base', base)} the start is the "
-                            f"Magic Formula tyre of `tyrefit fit --model {base}`")
+                            f"Magic Formula tyre of a fit with {option('model', base)}")
         if any(r.kind not in ("slip_angle", "slip_ratio") for r in records):
-            raise DataError(f"{option('base', base)} diagnoses dynamic-rig slip sweeps (the Magic Formula tyre "
-                            f"`tyrefit fit --model {base}` writes); static-rig pushes are diagnosed with the PAC89 "
+            raise DataError(f"{option('base', base)} diagnoses dynamic-rig slip sweeps (the Magic Formula tyre a "
+                            f"fit with {option('model', base)} writes); static-rig pushes are diagnosed with the PAC89 "
                             f"base and {option('patch')}")
         return diagnose_mf(records, model=base, rated_load=rated_load, seed=int(seed)), records[0]
     notes: list[str] = []
@@ -65,8 +65,8 @@ def diagnose_records(records: Sequence, *, start=(), rated_load: float | None = 
         lateral = [r for r in records if r.kind == "slip_angle" and "fy" in r.df.columns]
         if not lateral:
             kinds = ", ".join(sorted({repr(r.kind) for r in records}))
-            hint = ("; give the tyre's cornering record too (`tyrefit diagnose CORNERING DRIVEBRAKE`) to diagnose "
-                    "Fx beside Fy and Mz, or fit drive/brake records with `tyrefit fit FILE --model mf61`"
+            hint = ("; give the tyre's cornering record too (both records in one diagnosis) to diagnose "
+                    f"Fx beside Fy and Mz, or fit drive/brake records with {option('model', 'mf61')}"
                     if any(r.kind == "slip_ratio" for r in records) else "")
             raise DataError(f"{names}: diagnose needs lateral-force slip-angle sweeps (fy against slip_angle) or "
                             f"static-rig pushes with {option('patch')}; found {kinds} data" + hint)

@@ -41,7 +41,7 @@ from ..diagnose.channels import (_DEG, _FLOOR_SPACING, SYSTEMATIC, ChannelData, 
                                  sweep_p, systematic_share)
 from ..diagnose.data import combine_records
 from ..diagnose.ladder_report import write_report
-from ..errors import DataError
+from ..errors import DataError, option, render
 from ..fitting.noise import LagOneNoise, noise_floor
 from ..io.outputs import write_text
 from .fit import fit_mf_records
@@ -117,7 +117,7 @@ class LadderDiagnosis:
         }
 
     def summary(self) -> str:
-        out = [f"base: the {self.model.upper()} tyre of `tyrefit fit --model {self.model}`"]
+        out = [render(f"base: the {self.model.upper()} tyre of a fit with {option('model', self.model)}")]
         for ch, c in self.channels.items():
             u = c.data.unit
             out.append(f"{ch}: RMSE {c.steps[0]['rmse']:.3g} {u} (noise floor {c.noise_floor:.3g} {u})"
