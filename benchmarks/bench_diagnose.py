@@ -109,8 +109,12 @@ def _run() -> dict:
     case = make_case(("camber", "pressure"), "ar1", seed=1)
     sets.append(("suite case camber+pressure, AR(1) (1470 points)", case.data, case.rated_load, "suite"))
     for name, ds, rated, key in sets:
-        base = _baseline(prepare(ds, rated_load=rated))
-        t, dg = best_of(lambda: _diag(ds, rated), repeat=2)
+        prepared = prepare(ds, rated_load=rated)
+        # the baseline before and after the diagnoses, its best kept: on a shared machine a load spike during
+        # one of them would otherwise set the ratio
+        b0 = _baseline(prepared)
+        t, dg = best_of(lambda: _diag(ds, rated), repeat=3)
+        base = min(b0, _baseline(prepared))
         limit = {"six": 10.0, "ttc": 30.0}.get(key)
         extra = {f"under_{limit:.0f}s": bool(t <= limit)} if limit else {}
         rows.append(measurement(f"diagnose() {name}", t, "one plain FD fit of the start model", base,

@@ -654,7 +654,9 @@ def test_sweep_flips_have_a_p_value_floor_with_six_sweeps_the_noise_model_does_n
     flip = screen_candidates(J_model, cands, r, lay, rng, n_boot=999, method="flip")
     noise = screen_candidates(J_model, cands, r, lay, rng, n_boot=999, method="noise")
     assert flip.p_value.min() >= 0.015  # 1/32 up to the bootstrap error of 999 draws
-    assert noise.p_adjusted[0] < 0.005
+    # the noise model's p-value is not held at 1/32: a third of it (its draws stop once the decision at
+    # alpha is settled, here after 499 draws: a resolution of 1/500)
+    assert noise.p_adjusted[0] < 0.01
 
 
 def test_detectable_size_has_the_stated_power():

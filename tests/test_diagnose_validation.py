@@ -273,11 +273,11 @@ def test_insample_mutation_makes_held_out_equal_in_sample_and_is_undone():
     from tyrefit.diagnose import diagnose, engine
 
     case = vc.make_case("grid8", "iid", None, 0)
-    orig = engine.fit
+    orig = engine.fit_folds
     with vr.mutated("insample"):
-        assert engine.fit is not orig
+        assert engine.fit_folds is not orig
         dg = diagnose(case.data, rated_load=case.rated_load, seed=0)
-    assert engine.fit is orig
+    assert engine.fit_folds is orig
     step = dg.steps[0]
     assert step.rmse_heldout == pytest.approx(step.rmse, rel=1e-6)
     with vr.mutated("insample"):

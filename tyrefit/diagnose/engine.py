@@ -119,10 +119,10 @@ from ..errors import DataError, FitError, option
 from ..fitting._blas import single_threaded_blas
 from .advice import build_advice, peak_reach
 from .data import SweepData, prepare
-from .fitter import FitOut, ModelSpec, fit, fit_start
+from .fitter import FitOut, ModelSpec, fit, fit_folds, fit_start
 from .result import Diagnosis
 from .steps import Candidate, Settings, Step  # noqa: F401  (public here too)
-from .stats import (MIN_FLIP_SWEEPS, SweepLayout, heldout_gain_null, cluster_bootstrap_prob, cluster_sums, crossval_surface, level_folds, noise_floor,
+from .stats import (MIN_FLIP_SWEEPS, HeldoutNull, SweepLayout, cluster_bootstrap_prob, cluster_sums, crossval_surface, level_folds, noise_floor,
                     estimate_noise, repeat_noise, score_test_groups, screen_candidates, sweep_folds)
 from ..fitting.noise import _bspline_basis
 
@@ -153,6 +153,7 @@ class _Engine:
         self.point_fold = sweep_fold[data.sweep]
         self.inside, self.inside_sweep = self._inside()
         self.fixed = {}
+        self._heldout_nulls: dict = {}  # (current step, its parameters) -> HeldoutNull of this round
         if len(data.levels["fz"]) < 2:
             # one load level: the load law cannot be identified; fix a4 so BCD is flat near it
             self.fixed["a4"] = float(2e-3 * data.levels["fz"][0])
@@ -176,22 +177,25 @@ class _Engine:
         return inside_sweep[d.sweep], inside_sweep
 
     def crossval(self, spec: ModelSpec, full: FitOut) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Out-of-fold residuals (sweep folds, then level folds) and each sweep fold's SSE on interpolated sweeps.
+
+        Every fold is refitted from the fit on all points, all folds at once (:func:`~.fitter.fit_folds`).
+        """
         d = self.data
+        tests = [self.point_fold == k for k in range(len(self.folds))]
+        tests += [np.isin(d.sweep, test_sweeps) for _, test_sweeps in self.lfolds]
+        _, R = fit_folds(spec, d, tests, full.theta, tol=1e-7)
         oof = np.empty(d.n)
         fold_sse = np.empty(len(self.folds))
         for k in range(len(self.folds)):
-            test = self.point_fold == k
-            train = np.flatnonzero(~test)
-            out = fit(spec, d, idx=train, x0=full.theta, tol=1e-7)
-            r = spec.predict(out.theta, d.inputs.take(test)) - d.fy[test]
+            test = tests[k]
+            r = R[k][test]
             oof[test] = r
             m = self.inside[test]
             fold_sse[k] = float(r[m] @ r[m]) if m.any() else np.nan
         oofl = np.full(d.n, np.nan)
-        for _, test_sweeps in self.lfolds:
-            test = np.isin(d.sweep, test_sweeps)
-            out = fit(spec, d, idx=np.flatnonzero(~test), x0=full.theta, tol=1e-7)
-            oofl[test] = spec.predict(out.theta, d.inputs.take(test)) - d.fy[test]
+        for j, test in enumerate(tests[len(self.folds):], start=len(self.folds)):
+            oofl[test] = R[j][test]
         return oof, oofl, fold_sse
 
     def step(self, spec: ModelSpec, full: FitOut, added: str | None) -> Step:
@@ -283,12 +287,18 @@ class _Engine:
         if noise is None:
             return float("nan")
         J = self.start_jacobian(cspec, cur) if J is None else J
-        old = [cspec.names.index(n) for n in cur.spec.names if n in cspec.names]
+        old_names = [n for n in cur.spec.names if n in cspec.names]
+        old = [cspec.names.index(n) for n in old_names]
         new = [i for i, n in enumerate(cspec.names) if n not in cur.spec.names]
         m = self.inside if mask is None else mask
         gain = float(np.sum(cur.oof[m] ** 2) - np.sum(st.oof[m] ** 2))
-        null = heldout_gain_null(J[:, old], J[:, new], noise, self.layout, self.point_fold, m, self.rng,
-                                 self.s.n_boot_heldout)
+        # one set of noise draws per round and current model: every candidate is judged on the same draws
+        key = (id(cur), tuple(old_names))
+        hn = self._heldout_nulls.get(key)
+        if hn is None or hn.noise is not noise:
+            hn = HeldoutNull(J[:, old], noise, self.layout, self.point_fold, self.rng, self.s.n_boot_heldout)
+            self._heldout_nulls = {key: hn}
+        null = hn.gain(J[:, new], m)
         return float((1.0 + np.count_nonzero(null >= gain)) / (len(null) + 1.0))
 
 
@@ -636,7 +646,7 @@ def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, sett
             lev = eng.alpha
             c.status = "not significant" if pa >= lev else "significant, not refitted"
             c.reason = (f"adjusted p = {pa:.3g} >= {lev:g} (score test, {scr.method}, {scr.n_clusters} sweeps, "
-                        f"min-p over {len(pool)} candidates)") if pa >= lev else ""
+                        f"min-p over {len(pool)} candidates, {scr.draws} draws)") if pa >= lev else ""
             c.rmse_heldout = c.delta_heldout = c.delta_levelout = float("nan")
             c.folds_improved = c.boot_prob = c.p_heldout = float("nan")
             c.evidence = ""

@@ -29,11 +29,11 @@ from ..effects import BASE, Effect, ModelInputs, get_effect
 from ..effects import coefficients as _coefficients
 from ..effects import lateral_force as _model
 from ..errors import FitError
-from ..fitting.core import Parameters, Sweeps, lm_normal, solve
+from ..fitting.core import Parameters, Sweeps, lm_normal, lm_normal_batch, solve
 from ..models import pac89
 from .data import SweepData
 
-__all__ = ["ModelSpec", "FitOut", "fit", "initial_guess"]
+__all__ = ["ModelSpec", "FitOut", "fit", "fit_folds", "initial_guess"]
 
 _DEG = np.pi / 180.0
 
@@ -146,19 +146,76 @@ class ModelSpec:
             return F[0], ((F[1:] - F[0]) / h[:, None]).T
         h = self._steps(x0, 1e-6)
         coef = _coefficients(self._columns(x0, h), self.effects, inputs)
-        p0 = {c: np.broadcast_to(np.asarray(v, dtype=float), (k + 1, n))[0] for c, v in coef.items()}
-        f0, Jc = pac89.lateral_jacobian(p0, inputs.fz, inputs.slip_angle, inputs.camber)
+        # coefficients no parameter reaches stay scalars: no Jacobian column for them
+        varied = [c for c in pac89.LATERAL if isinstance(coef[c], np.ndarray) and coef[c].ndim > 0]
+        p0 = {c: (v[0] if isinstance(v, np.ndarray) and v.ndim == 2 else v) for c, v in coef.items()}
+        f0, Jc = pac89.lateral_jacobian(p0, inputs.fz, inputs.slip_angle, inputs.camber, names=varied)
         J = np.zeros((n, k))
-        for i, c in enumerate(pac89.LATERAL):
-            v = np.asarray(coef[c], dtype=float)
-            if v.ndim == 0:
+        M = np.zeros((len(varied), k))  # d coefficient / d parameter of the coefficients alike at every point
+        for i, c in enumerate(varied):
+            v = coef[c]
+            if v.ndim == 1:  # point-wise but no parameter steps in it (a fixed value times the inputs)
                 continue
-            v = np.broadcast_to(v, (k + 1, v.shape[-1]))
-            dv = (v[1:] - v[0]) / h[:, None]
-            nz = np.flatnonzero(np.any(dv != 0.0, axis=1))
-            if len(nz):
-                J[:, nz] += Jc[:, i][:, None] * dv[nz].T
+            dv = (v[1:] - v[0]) / h[:, None]  # (k, 1) or (k, n)
+            if dv.shape[1] == 1:
+                M[i] = dv[:, 0]
+            else:
+                J += Jc[:, i:i + 1] * dv.T
+        J += Jc @ M
         return f0, J
+
+    def _point_values(self, X: np.ndarray, n: int) -> dict:
+        """Values with parameter set f of ``X`` (F, P) at the points f*n .. (f+1)*n - 1 (fixed ones scalars)."""
+        v = dict(self.fixed)
+        v.update({name: np.repeat(X[:, j], n) for j, name in enumerate(self.names)})
+        return v
+
+    def predict_batch(self, X: np.ndarray, tiled: ModelInputs, n: int) -> np.ndarray:
+        """Lateral force [N] of F parameter sets ``X`` (F, P) on ``tiled`` (the n inputs repeated F times) -> (F, n)."""
+        X = np.atleast_2d(X)
+        return _model(self._point_values(X, n), self.effects, tiled).reshape(len(X), n)
+
+    def jacobian_batch(self, X: np.ndarray, inputs: ModelInputs, tiled: ModelInputs):
+        """:meth:`jacobian` (``'chain'``) of F parameter sets at once: (F, n) forces and (F, n, P) Jacobians.
+
+        The coefficients and their parameter derivatives are made per set, as :meth:`jacobian` makes them,
+        on the n points of ``inputs``; PAC89's analytic Jacobian then runs once on ``tiled`` (those n points
+        repeated F times) with every set's coefficients point-wise, so one model call serves all F sets.
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        F, k = X.shape
+        n = len(inputs.fz)
+        H = np.stack([self._steps(x, 1e-6) for x in X])  # (F, k)
+        # every set's parameter columns stacked: row f (k+1) + 0 at X[f], row f (k+1) + j + 1 stepped in j
+        vals = {name: np.full((F * (k + 1), 1), v, dtype=float) for name, v in self.fixed.items()}
+        for j, name in enumerate(self.names):
+            col = np.repeat(X[:, j:j + 1], k + 1, axis=1)
+            col[:, j + 1] += H[:, j]
+            vals[name] = col.reshape(-1, 1)
+        coef = _coefficients(vals, self.effects, inputs)
+        varied, p0, dvs = [], {}, []
+        for c in pac89.LATERAL:
+            v = coef[c]
+            if not (isinstance(v, np.ndarray) and v.ndim == 2):
+                p0[c] = v  # no parameter reaches it: a scalar, or fixed values at the points
+                continue
+            v3 = v.reshape(F, k + 1, -1)
+            varied.append(c)
+            p0[c] = np.broadcast_to(v3[:, 0, :], (F, n)).reshape(-1)
+            dvs.append((v3[:, 1:, :] - v3[:, :1, :]) / H[:, :, None])  # (F, k, 1 or n)
+        p0 = {c: (np.tile(v, F) if isinstance(v, np.ndarray) and v.ndim == 1 and len(v) == n else v)
+              for c, v in p0.items()}
+        f0, Jc = pac89.lateral_jacobian(p0, tiled.fz, tiled.slip_angle, tiled.camber, names=varied)
+        Jc = Jc.reshape(F, n, len(varied))
+        M = np.zeros((F, len(varied), k))
+        J = np.zeros((F, n, k))
+        for i, dv in enumerate(dvs):
+            if dv.shape[2] == 1:
+                M[:, i, :] = dv[:, :, 0]
+            else:
+                J += Jc[:, :, i:i + 1] * dv.transpose(0, 2, 1)
+        J += Jc @ M
+        return f0.reshape(F, n), J
 
 
 @dataclass
@@ -213,6 +270,51 @@ def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200
         raise FitError("the model is not finite at the start values; check the data units (fz [N], slip [rad])") \
             from None
     return _fitout(spec, sol)
+
+
+def fit_folds(spec: ModelSpec, data: SweepData, tests, x0, max_nfev: int = 200, tol: float = 1e-9):
+    """Refits of ``spec`` each leaving out one set of points, all at once (cross-validation folds).
+
+    Each refit is the one :func:`fit` makes on the points outside ``tests[f]`` starting at ``x0``: the same
+    box-constrained Levenberg-Marquardt steps (:func:`tyrefit.fitting.core.lm_normal_batch`), with the model
+    and its Jacobian evaluated for every unfinished fold in one call.
+
+    Parameters
+    ----------
+    tests : sequence of bool arrays (N,)
+        The held-out points of each fold.
+    x0 : array_like (P,)
+        Start of every refit (the fit on all points).
+
+    Returns
+    -------
+    thetas : ndarray (F, P)
+    resid : ndarray (F, N)
+        Model minus data [N] at every point with fold f's parameters: the held-out residuals are
+        ``resid[f][tests[f]]``.
+    """
+    n = data.n
+    F = len(tests)
+    if F == 0:
+        return np.zeros((0, len(spec.names))), np.zeros((0, n))
+    tiled = data.inputs.take(np.tile(np.arange(n), F))
+    w = ~np.asarray(tests, dtype=bool)
+
+    def jac(X, rows):
+        f0, J = spec.jacobian_batch(X, data.inputs, _rows_of(tiled, rows, n, F))
+        return f0 - data.fy, J
+
+    def fun(X, rows):
+        return spec.predict_batch(X, _rows_of(tiled, rows, n, F), n) - data.fy
+
+    x = np.repeat(_start(spec, x0)[None, :], F, axis=0)
+    X, R, _, _ = lm_normal_batch(jac, fun, x, w.astype(float), spec.lower, spec.upper, spec.scale, max_nfev, tol)
+    return X, R
+
+
+def _rows_of(tiled: ModelInputs, rows, n: int, F: int) -> ModelInputs:
+    """The inputs of the folds ``rows`` (every fold holds the same n points, in the same order)."""
+    return tiled if len(rows) == F else tiled.take(np.arange(len(rows) * n))
 
 
 def _fitout(spec: ModelSpec, sol) -> FitOut:
@@ -285,13 +387,31 @@ def initial_guess(data: SweepData) -> dict:
 
 
 def fit_start(spec: ModelSpec, data: SweepData) -> FitOut:
-    """Fit from the data-based initial guess, trying a few curvature/shape starts (the core's multi-start)."""
+    """Fit from the data-based initial guess, trying a few curvature/shape starts, all at once.
+
+    Three starts (C, E) = (1.4, -0.3), (1.2, 0.3), (1.7, -1.0) with the data-based peak and stiffness
+    (:func:`initial_guess`) run together (:func:`tyrefit.fitting.core.lm_normal_batch`, every point
+    weighted alike); the fit with the lowest sum of squares is kept.
+    """
     g = initial_guess(data)
-    starts = [_start(spec, spec.start(dict(g, a0=a0, a7=a7))) for a0, a7 in ((1.4, -0.3), (1.2, 0.3), (1.7, -1.0))]
-    fun, both, _, _ = _problem(spec, data, None)
-    try:
-        sol = solve(fun, spec.parameters(starts[0]), fun_jac=both, method="lm-normal", max_nfev=200, tol=1e-9,
-                    starts=starts, stderr=False, what="PAC89 start model")
-    except FitError:
-        raise FitError("PAC89 start model could not be fitted to these data") from None
-    return _fitout(spec, sol)
+    starts = np.array([_start(spec, spec.start(dict(g, a0=a0, a7=a7)))
+                       for a0, a7 in ((1.4, -0.3), (1.2, 0.3), (1.7, -1.0))])
+    n, S = data.n, len(starts)
+    tiled = data.inputs.take(np.tile(np.arange(n), S))
+
+    def jac(X, rows):
+        f0, J = spec.jacobian_batch(X, data.inputs, _rows_of(tiled, rows, n, S))
+        return f0 - data.fy, J
+
+    def fun(X, rows):
+        return spec.predict_batch(X, _rows_of(tiled, rows, n, S), n) - data.fy
+
+    X, R, nfev, ok = lm_normal_batch(jac, fun, starts, np.ones((S, n)), spec.lower, spec.upper, spec.scale, 200,
+                                     1e-9)
+    sse = np.where(np.all(np.isfinite(R), axis=1), np.sum(R * R, axis=1), np.inf)
+    b = int(np.argmin(sse))
+    if not np.isfinite(sse[b]):
+        raise FitError("PAC89 start model could not be fitted to these data")
+    r = R[b]
+    return FitOut(theta=X[b], resid=r, rmse=float(np.sqrt(np.mean(r**2))), nfev=int(np.sum(nfev)),
+                  success=bool(ok[b]), values=spec.values(X[b]))

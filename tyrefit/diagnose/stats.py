@@ -40,12 +40,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.special import bdtr, bdtrc
 
 from ..fitting.noise import _bspline_basis, noise_floor  # noqa: F401  (diagnose's within-sweep floor)
 
 __all__ = ["ScoreTest", "score_test", "GroupScoreTest", "score_test_groups", "residualise", "holm", "noise_floor",
            "SweepLayout", "NoiseModel", "estimate_noise", "simulate_noise", "repeat_noise", "Screen", "screen_candidates",
-           "heldout_gain_null", "detectable_size", "MIN_FLIP_SWEEPS",
+           "heldout_gain_null", "HeldoutNull", "detectable_size", "draw_blocks", "decided", "MIN_FLIP_SWEEPS",
            "sweep_folds", "level_folds", "cluster_bootstrap_prob", "cluster_sums", "crossval_surface"]
 
 _DEG = np.pi / 180.0
@@ -395,6 +396,8 @@ class SweepLayout:
         self.mask = self.index >= 0
         # f_g = (1/n) sum_ij rho^|i-j| needs these lag counts: (n - h) pairs at lag h
         self.lag_counts = np.clip(self.n[:, None] - np.arange(self.n_max)[None, :], 0, None).astype(float)
+        self._slot = np.empty(self.N, dtype=int)  # each point's place in the flattened (G, n_max) frame
+        self._slot[self.index[self.mask]] = np.flatnonzero(self.mask.ravel())
 
     def padded(self, x: np.ndarray) -> np.ndarray:
         """(..., N) -> (..., G, n_max), zero past the end of each sweep."""
@@ -403,9 +406,7 @@ class SweepLayout:
 
     def unpad(self, xp: np.ndarray) -> np.ndarray:
         """(..., G, n_max) -> (..., N)."""
-        out = np.empty(xp.shape[:-2] + (self.N,))
-        out[..., self.index[self.mask]] = xp[..., self.mask]
-        return out
+        return np.take(xp.reshape(xp.shape[:-2] + (-1,)), self._slot, axis=-1)
 
 
 @dataclass
@@ -429,7 +430,12 @@ class NoiseModel:
 
 def _ar_f(layout: SweepLayout, rho: np.ndarray) -> np.ndarray:
     """f_g(rho) = (1/n_g) sum_ij rho^|i-j| (variance of a sweep sum / n_g sigma^2) -> (B, G)."""
-    rho = np.atleast_1d(rho)[:, None]
+    rho = np.atleast_1d(np.asarray(rho, dtype=float))[:, None]
+    n = layout.n[None, :].astype(float)
+    if np.all(np.abs(1.0 - rho) > 1e-2):
+        # sum_(h=1)^(n-1) (n - h) rho^h = rho (n (1 - rho) - (1 - rho^n)) / (1 - rho)^2, without the (B, H) powers
+        lagged = rho * (n * (1.0 - rho) - (1.0 - rho**n)) / (1.0 - rho) ** 2
+        return 1.0 + 2.0 * lagged / n
     h = np.arange(layout.n_max)[None, :]
     powh = np.where(h == 0, 1.0, rho ** np.maximum(h, 1))  # (B, H)
     w = np.where(h == 0, 1.0, 2.0) * powh
@@ -483,13 +489,16 @@ def simulate_noise(model: NoiseModel, layout: SweepLayout, n_draws: int, rng: np
     sd = np.asarray(model.sd, dtype=float).reshape(-1)[-layout.G:]
     rho = float(np.asarray(model.rho).ravel()[0])
     tau = float(np.asarray(model.tau).ravel()[0])
-    z = rng.standard_normal((n_draws, layout.G, layout.n_max))
-    e = np.empty_like(z)
-    e[..., 0] = z[..., 0]
+    # the AR(1) recursion e_i = rho e_(i-1) + c z_i runs in place on the draws (no (B, G, H) temporaries:
+    # at a thousand draws their allocation cost more than the arithmetic)
+    e = rng.standard_normal((n_draws, layout.G, layout.n_max))
     c = np.sqrt(max(1.0 - rho * rho, 0.0))
     for i in range(1, layout.n_max):
-        e[..., i] = rho * e[..., i - 1] + c * z[..., i]
-    e = e * sd[None, :, None] + tau * rng.standard_normal((n_draws, layout.G))[..., None]
+        zi = e[..., i]
+        zi *= c
+        zi += rho * e[..., i - 1]
+    e *= sd[None, :, None]
+    e += tau * rng.standard_normal((n_draws, layout.G))[..., None]
     return layout.unpad(e)
 
 
@@ -504,7 +513,8 @@ class Screen:
     after the adjustment), ``method`` ("sweep flips" or "noise-model
     bootstrap"), ``noise`` (the estimated NoiseModel, noise-model bootstrap
     only), ``info`` (per candidate: Fisher information and score variance of
-    its parameters, for the smallest detectable effect).
+    its parameters, for the smallest detectable effect), ``draws`` (bootstrap
+    draws the p-values rest on).
     """
 
     statistic: np.ndarray
@@ -517,6 +527,7 @@ class Screen:
     n_clusters: int
     noise: NoiseModel | None = None
     info: list = None
+    draws: int = 0
 
 
 def _minp_adjust(T: np.ndarray, Tb: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -531,6 +542,47 @@ def _minp_adjust(T: np.ndarray, Tb: np.ndarray, alpha: float) -> tuple[np.ndarra
     c = min_boot[max(int(np.floor(alpha * (B + 1))) - 2, 0)] if B else 0.0
     crit = np.array([np.quantile(Tb[k], 1.0 - c) if c > 0 else np.inf for k in range(K)])
     return p_obs, np.maximum(p_adj, p_obs), crit
+
+
+#: cumulative draws after which a noise-model screening may stop (then ``n_boot``)
+DRAW_STEPS = (499, 999)
+#: a screening stops early when, for every candidate, a binomial count of exceedances as far from alpha as the
+#: one drawn has at most this probability if the candidate's exact p-value were alpha
+DECIDED_RISK = 1e-4
+
+
+def draw_blocks(n_boot: int) -> list[int]:
+    """Sizes of the blocks of bootstrap draws: up to :data:`DRAW_STEPS` draws in all, then up to ``n_boot``."""
+    ends = [t for t in DRAW_STEPS if t < n_boot] + [n_boot]
+    return [b - a for a, b in zip([0] + ends[:-1], ends) if b > a]
+
+
+def decided(T: np.ndarray, Tb: np.ndarray, alpha: float, risk: float = DECIDED_RISK) -> bool:
+    """Whether every candidate's min-p adjusted p-value is settled against ``alpha`` by the ``B`` draws so far.
+
+    The adjusted p-value (1 + c) / (B + 1) counts c draws whose smallest p-value is at most the candidate's;
+    c is binomial (B, p) with p the exact adjusted p-value.  A candidate is settled when c is incompatible
+    with p = alpha: P(C <= c) < ``risk`` (clearly below alpha) or P(C >= c) < ``risk`` (clearly above).
+    """
+    B = Tb.shape[1]
+    _, padj, _ = _minp_adjust(T, Tb, alpha)
+    c = np.rint(padj * (B + 1.0) - 1.0)
+    below = bdtr(c, B, alpha) < risk
+    above = (c >= 1) & (bdtrc(np.maximum(c - 1.0, 0.0), B, alpha) < risk)
+    return bool(np.all(below | above))
+
+
+def _pinv_quadratic(s: np.ndarray, V: np.ndarray, rcond: float) -> np.ndarray:
+    """s_b' pinv(V_b) s_b for a stack of symmetric V (B, q, q) and s (B, q), as ``np.linalg.pinv(V, rcond,
+    hermitian=True)`` would give it: eigenvalues at or below rcond x the largest |eigenvalue| count as 0."""
+    if V.shape[-1] == 1:
+        v = V[:, 0, 0]
+        return np.divide(s[:, 0] ** 2, v, out=np.zeros_like(v), where=v != 0)
+    w, U = np.linalg.eigh(V)
+    cut = rcond * np.max(np.abs(w), axis=1, keepdims=True)
+    inv = np.divide(1.0, w, out=np.zeros_like(w), where=np.abs(w) > cut)
+    proj = (U.transpose(0, 2, 1) @ s[:, :, None])[:, :, 0]  # U' s
+    return np.sum(inv * proj * proj, axis=1)
 
 
 def _basis(A: np.ndarray, layout) -> tuple[np.ndarray, float, float]:
@@ -562,9 +614,9 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     layout : SweepLayout
     rng : Generator
     n_boot : int
-        Bootstrap draws.
+        Bootstrap draws (the noise model: at most; see Notes).
     alpha : float
-        Family-wise level (for the critical values only; the p-values do not depend on it).
+        Family-wise level: the critical values, and when the noise-model draws may stop.
     method : {'auto', 'flip', 'noise'}
         ``'flip'``: wild cluster score bootstrap, Rademacher signs per sweep
         (Kline & Santos 2012) - free of any noise model, but its null has only
@@ -633,6 +685,13 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     of the model with every candidate: a within-sweep effect left in the
     residuals would pass for correlated noise and take the power (the reason
     the noise is estimated from that model at all).
+
+    The noise-model draws come in blocks (499, then 999, then ``n_boot`` in
+    all) and stop once no candidate's decision at ``alpha`` can change
+    (:func:`decided`: a sequential Monte Carlo test after Besag & Clifford,
+    Biometrika 78 (1991) 301-304): a round where nothing is near the level
+    needs 499 draws, not 1999.  The p-values then have the resolution
+    1 / (draws + 1).
     """
     G = layout.G
     r = np.asarray(resid, dtype=float)
@@ -668,7 +727,7 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
             var.append(Vk)
         p, padj, crit = _minp_adjust(T, Tb, alpha)
         return Screen(T, p, padj, dssr, q, crit, "sweep flips", G, None,
-                      [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)])
+                      [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)], n_boot)
     # --- noise-model bootstrap -----------------------------------------------------------------
     # the alternative: model plus every candidate direction (orthonormal basis); the noise is estimated
     # from its residuals so an effect that is there does not pass for correlated noise
@@ -706,34 +765,45 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     # from all the sweep means), see Notes; the statistics stay studentised with the full model's tau
     Q0, dw0, db0 = _basis(J_model, layout)
     tau0 = estimate_noise(r - (r @ Q0) @ Q0.T, layout, dw0, db0).tau
-    e = simulate_noise(NoiseModel(sd=noise.sd, rho=noise.rho, tau=np.maximum(np.asarray(noise.tau), tau0)),
-                       layout, n_boot, rng)
-    nb = estimate_noise(alt_resid(e), layout, dof_w, dof_b)
-    sb = e @ allJ  # scores of the draws (J~ is orthogonal to the model's directions)
+    draw_model = NoiseModel(sd=noise.sd, rho=noise.rho, tau=np.maximum(np.asarray(noise.tau), tau0))
 
     def variances(nm: NoiseModel) -> np.ndarray:
         rho = np.atleast_1d(nm.rho)
-        powh = rho[:, None] ** np.arange(H)[None, :]  # (B, H)
+        powh = np.ones((len(rho), H))  # rho^h (B, H), as running products
+        if H > 1:
+            powh[:, 1:] = rho[:, None]
+            np.cumprod(powh, axis=1, out=powh)
         w = (np.atleast_2d(nm.sd) ** 2)[:, :, None] * powh[:, None, :]  # (B, G, H)
-        return np.einsum("bgh,ghp->bp", w, lag) + (np.atleast_1d(nm.tau) ** 2)[:, None] * off[None, :]
+        B = w.shape[0]
+        return w.reshape(B, -1) @ lag.reshape(-1, lag.shape[-1]) + (np.atleast_1d(nm.tau) ** 2)[:, None] * off[None, :]
 
-    Vobs, Vb = variances(noise_obs)[0], variances(nb)
-    T, Tb, var = np.empty(K), np.empty((K, n_boot)), []
-    start = 0
+    Vobs = variances(noise_obs)[0]
+    T, var = np.empty(K), []
+    pair_at = np.r_[0, np.cumsum(q * q)]
     for k in range(K):
-        qk = q[k]
-        npair = qk * qk
-        Vk = Vobs[start:start + npair].reshape(qk, qk)
-        Vbk = Vb[:, start:start + npair].reshape(-1, qk, qk)
-        start += npair
+        Vk = Vobs[pair_at[k]:pair_at[k + 1]].reshape(q[k], q[k])
         sk = s_obs[sl[k]:sl[k + 1]]
         T[k] = float(sk @ np.linalg.pinv(Vk, rcond=1e-10, hermitian=True) @ sk)
-        sbk = sb[:, sl[k]:sl[k + 1]]
-        Tb[k] = np.einsum("bi,bij,bj->b", sbk, np.linalg.pinv(Vbk, rcond=1e-10, hermitian=True), sbk)
         var.append(Vk)
+    # the draws in blocks (sequential Monte Carlo, after Besag & Clifford 1991): stop once every candidate's
+    # adjusted p-value is clear of alpha by far more than its Monte Carlo error, at most n_boot draws
+    blocks = []
+    for size in draw_blocks(n_boot):
+        e = simulate_noise(draw_model, layout, size, rng)
+        nb = estimate_noise(alt_resid(e), layout, dof_w, dof_b)
+        sb = e @ allJ  # scores of the draws (J~ is orthogonal to the model's directions)
+        Vb = variances(nb)
+        blk = np.empty((K, size))
+        for k in range(K):
+            Vbk = Vb[:, pair_at[k]:pair_at[k + 1]].reshape(-1, q[k], q[k])
+            blk[k] = _pinv_quadratic(sb[:, sl[k]:sl[k + 1]], Vbk, 1e-10)
+        blocks.append(blk)
+        Tb = np.hstack(blocks)
+        if Tb.shape[1] < n_boot and decided(T, Tb, alpha):
+            break
     p, padj, crit = _minp_adjust(T, Tb, alpha)
     return Screen(T, p, padj, dssr, q, crit, "noise-model bootstrap", G, noise,
-                  [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)])
+                  [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)], Tb.shape[1])
 
 
 def detectable_size(fisher: np.ndarray, var: np.ndarray, critical: float, power: float = 0.8) -> np.ndarray:
@@ -768,7 +838,9 @@ def heldout_gain_null(J_model: np.ndarray, J_new: np.ndarray, noise: NoiseModel,
     residual of fold f is e_test - X_test (X_train' X_train)^+ X_train' e_train
     with X the model's (or the model plus the candidate's) Jacobian, so the
     held-out gain sum_inside(oof_0^2 - oof_1^2) of a candidate that is not
-    there is a quadratic form in e, simulated from the noise model.
+    there is a quadratic form in e, simulated from the noise model
+    (:class:`HeldoutNull`, which a diagnosis round keeps to test each of its
+    candidates on the same draws).
 
     Parameters
     ----------
@@ -787,17 +859,49 @@ def heldout_gain_null(J_model: np.ndarray, J_new: np.ndarray, noise: NoiseModel,
     ndarray (n_draws,)
         Held-out gains [N^2] under the null.
     """
-    e = simulate_noise(noise, layout, n_draws, rng)  # (B, N)
-    X0 = J_model / np.maximum(np.linalg.norm(J_model, axis=0), 1e-300)
-    X1 = np.hstack([X0, J_new / np.maximum(np.linalg.norm(J_new, axis=0), 1e-300)])
-    gain = np.zeros(n_draws)
-    for f in np.unique(point_fold):
-        te = (point_fold == f) & inside
-        if not te.any():
-            continue
-        tr = point_fold != f
-        for X, sign in ((X0, 1.0), (X1, -1.0)):
-            M = X[te] @ np.linalg.pinv(X[tr], rcond=1e-10)  # (n_test, n_train): the held-out prediction
-            oof = e[:, te] - e[:, tr] @ M.T
-            gain += sign * np.sum(oof * oof, axis=1)
-    return gain
+    return HeldoutNull(J_model, noise, layout, point_fold, rng, n_draws).gain(J_new, inside)
+
+
+def _unit_columns(X: np.ndarray) -> np.ndarray:
+    return X / np.maximum(np.linalg.norm(X, axis=0), 1e-300)
+
+
+class HeldoutNull:
+    """Noise draws and the current model's out-of-fold errors on them, for the held-out gain of any candidate.
+
+    The draws (from the noise model) and the current model's part of the
+    held-out sums of squares are the same for every candidate of a round, so
+    they are made once; :meth:`gain` adds a candidate's directions.  The
+    out-of-fold prediction of fold f is (e_train pinv(X_train)') X_test', two
+    thin products (B x n_train x P, then B x P x n_test) instead of the
+    n_test x n_train hat matrix.
+    """
+
+    def __init__(self, J_model: np.ndarray, noise: NoiseModel, layout: SweepLayout, point_fold: np.ndarray,
+                 rng: np.random.Generator, n_draws: int = 999):
+        self.e = simulate_noise(noise, layout, n_draws, rng)  # (B, N)
+        self.noise = noise
+        self.X0 = _unit_columns(J_model)
+        self.point_fold = np.asarray(point_fold)
+        self.folds = [(self.point_fold == f, self.point_fold != f) for f in np.unique(self.point_fold)]
+        self._base: dict = {}
+
+    def _sse(self, X: np.ndarray, inside: np.ndarray) -> np.ndarray:
+        """Per draw: the sum over held-out points ``inside`` of the squared out-of-fold error of model X."""
+        out = np.zeros(self.e.shape[0])
+        for te_all, tr in self.folds:
+            te = te_all & inside
+            if not te.any():
+                continue
+            coef = self.e[:, tr] @ np.linalg.pinv(X[tr], rcond=1e-10).T  # (B, P): the fold's fit to the noise
+            oof = self.e[:, te] - coef @ X[te].T
+            out += np.sum(oof * oof, axis=1)
+        return out
+
+    def gain(self, J_new: np.ndarray, inside: np.ndarray) -> np.ndarray:
+        """Held-out gains [N^2] (B,) of adding the directions ``J_new`` (N, q) to the model, under the null."""
+        inside = np.asarray(inside, dtype=bool)
+        key = inside.tobytes()
+        if key not in self._base:
+            self._base[key] = self._sse(self.X0, inside)
+        return self._base[key] - self._sse(np.hstack([self.X0, _unit_columns(J_new)]), inside)

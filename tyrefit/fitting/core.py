@@ -89,7 +89,7 @@ from scipy.optimize import least_squares
 from ..errors import FitError
 
 __all__ = ["Parameter", "Parameters", "Sweeps", "Solution", "solve", "objective", "covariance", "COSTS",
-           "ROBUST_LOSSES", "interior", "huber", "soft_l1", "lm_normal"]
+           "ROBUST_LOSSES", "interior", "huber", "soft_l1", "lm_normal", "lm_normal_batch"]
 
 
 # ------------------------------------------------------------------------------ parameters
@@ -831,13 +831,13 @@ def lm_normal(jac, fun, x, lower, upper, scale, max_nfev: int, tol: float = 1e-9
             rho = (cost - cost_new) / predicted if predicted > 0 else 0.0
             dx = np.max(np.abs(h))
             x, cost = x_new, cost_new
-            r, J = jac(x)
-            # Nielsen's damping update: shrink a lot when the linear model was good
-            lam = max(lam * max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), 1e-12)
-            nu = 2.0
             if rel < tol or dx < tol:
                 converged = True
                 break
+            r, J = jac(x)  # (not at the converged point: nothing reads it there)
+            # Nielsen's damping update: shrink a lot when the linear model was good
+            lam = max(lam * max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3), 1e-12)
+            nu = 2.0
         else:
             lam *= nu
             nu *= 2.0
@@ -845,3 +845,100 @@ def lm_normal(jac, fun, x, lower, upper, scale, max_nfev: int, tol: float = 1e-9
                 converged = True  # no downhill step left: a (possibly bounded) minimum
                 break
     return x, nfev, converged
+
+
+def lm_normal_batch(jac, fun, x, w, lower, upper, scale, max_nfev: int, tol: float = 1e-9):
+    """:func:`lm_normal` on F problems at once that share their points and differ in their weights.
+
+    Problem f minimises sum_n w[f, n] r_f(x_f)[n]^2 (weights 0 or 1 leave
+    points out: the folds of a cross-validation).  Every problem takes the
+    steps :func:`lm_normal` would take on its own (same damping, active set,
+    acceptance and convergence rules), but each iteration evaluates the
+    model and its Jacobian for all unfinished problems in one call, so the
+    per-call overhead of the model is paid once per iteration, not F times.
+
+    Parameters
+    ----------
+    jac : callable
+        ``jac(X, rows) -> (R, J)``: residuals (len(rows), N) and Jacobians
+        (len(rows), N, P) of the problems ``rows`` at their parameters ``X``.
+    fun : callable
+        ``fun(X, rows) -> R``.
+    x : ndarray (F, P)
+        Start of each problem.
+    w : ndarray (F, N)
+        Weight of every point in every problem.
+    lower, upper, scale : ndarray (P,)
+
+    Returns
+    -------
+    X (F, P), R (F, N) residuals at X (every point, weighted or not), evaluations (F,), converged (F,)
+    """
+    x = np.array(x, dtype=float)
+    F, P = x.shape
+    w = np.asarray(w, dtype=float)
+    rows = np.arange(F)
+    r, J = jac(x, rows)
+    r, J = np.array(r, dtype=float), np.array(J, dtype=float)
+    cost = np.sum(w * r * r, axis=1)
+    lam, nu = np.full(F, 1e-3), np.full(F, 2.0)
+    nfev = np.ones(F, dtype=int)
+    done = np.zeros(F, dtype=bool)
+    converged = np.zeros(F, dtype=bool)
+    span = 1e-12 * scale
+    eye = np.eye(P, dtype=bool)
+    while True:
+        act = np.flatnonzero(~done & (nfev < max_nfev))
+        if not act.size:
+            break
+        Js = J[act] * scale
+        Jw = Js * w[act][:, :, None]
+        JwT = Jw.transpose(0, 2, 1)
+        g = (JwT @ r[act][:, :, None])[:, :, 0]
+        A = JwT @ Js
+        xa = x[act]
+        held = ((xa <= lower + span) & (g > 0)) | ((xa >= upper - span) & (g < 0))
+        d = np.diagonal(A, axis1=1, axis2=2).copy()
+        d[d <= 0] = 1.0
+        M = A + (lam[act][:, None] * d)[:, None, :] * eye
+        # a held parameter: its row and column out of the system, a unit pivot in their place (h = 0 there)
+        M = np.where(held[:, :, None] | held[:, None, :], 0.0, M) + held[:, None, :] * eye
+        gf = np.where(held, 0.0, g)
+        try:
+            h = -np.linalg.solve(M, gf[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:
+            h = -np.stack([np.linalg.lstsq(M[i], gf[i], rcond=None)[0] for i in range(len(act))])
+        x_new = np.clip(xa + h * scale, lower, upper)
+        h = (x_new - xa) / scale
+        predicted = -(2.0 * np.sum(h * g, axis=1) + np.sum(h * (A @ h[:, :, None])[:, :, 0], axis=1))
+        r_new = np.asarray(fun(x_new, act), dtype=float)
+        nfev[act] += 1
+        wa = w[act]
+        fin = np.all(np.isfinite(r_new) | (wa == 0), axis=1)
+        rw = np.where(wa == 0, 0.0, r_new)  # left-out points count for nothing, finite or not
+        cost_new = np.where(fin, np.sum(wa * rw * rw, axis=1), np.inf)
+        better = cost_new < cost[act]
+        # accepted steps (vectorised over the problems; the same rules as lm_normal)
+        ia = act[better]
+        old_cost, new_cost, pred = cost[ia], cost_new[better], predicted[better]
+        rel = (old_cost - new_cost) / np.maximum(old_cost, 1e-300)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho = np.where(pred > 0, (old_cost - new_cost) / np.where(pred > 0, pred, 1.0), 0.0)
+        dx = np.max(np.abs(h[better]), axis=1) if ia.size else np.zeros(0)
+        x[ia], cost[ia], r[ia] = x_new[better], new_cost, r_new[better]
+        stop = (rel < tol) | (dx < tol)
+        converged[ia[stop]] = done[ia[stop]] = True
+        go = ~stop
+        upd = ia[go]
+        lam[upd] = np.maximum(lam[upd] * np.maximum(1.0 / 3.0, 1.0 - (2.0 * rho[go] - 1.0) ** 3), 1e-12)
+        nu[upd] = 2.0
+        # refused steps: more damping
+        ir = act[~better]
+        lam[ir] *= nu[ir]
+        nu[ir] *= 2.0
+        give_up = ir[lam[ir] > 1e10]
+        converged[give_up] = done[give_up] = True
+        if upd.size:
+            rr, JJ = jac(x[upd], upd)
+            r[upd], J[upd] = rr, JJ
+    return x, r, nfev, converged

@@ -158,11 +158,11 @@ def mutated(name: str | None):
             def patched(p, *a, **k):
                 return [0.0] * len(p)
     elif name == "insample":
-        attr = "fit"
+        attr = "fit_folds"  # the engine's every refit on a subset (sweep and level folds)
         orig = getattr(engine, attr, None)
 
-        def patched(spec, data, *a, idx=None, **k):
-            return orig(spec, data, *a, **k)
+        def patched(spec, data, tests, *a, **k):
+            return orig(spec, data, [np.zeros_like(np.asarray(t, dtype=bool)) for t in tests], *a, **k)
     elif name == "noconfirm":
         attr = "_confirm"
         orig = getattr(engine, attr, None)
