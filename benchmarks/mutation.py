@@ -75,7 +75,7 @@ TARGETS = {
     # issue 25's modules (the quick files that import each, fastest first: -x stops at the first failure;
     # tests/test_mutants_sampled_*.py kill the sampled mutants of --sample 216 --seed 15 that survived the rest)
     "tyrefit/fitting/core.py": ["tests/test_mutants_sampled_fit.py", "tests/test_fitting_core.py",
-                                "tests/test_mutants_issue25.py", "tests/test_fitting.py"],
+                                "tests/test_diagnose_speed.py", "tests/test_mutants_issue25.py", "tests/test_fitting.py"],
     "tyrefit/fitting/mf.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mutants_issue25.py",
                               "tests/test_fit_params.py", "tests/test_fit_mf_speed.py", "tests/test_fit_mf.py"],
     "tyrefit/sim/allocator.py": ["tests/test_mutants_sampled_rig.py", "tests/test_sim_allocator.py",
@@ -87,10 +87,11 @@ TARGETS = {
     "tyrefit/models/mf61.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mf61_model.py",
                                "tests/test_mf_parts.py", "tests/test_mf52_61keys.py", "tests/test_mf_tir_write.py",
                                "tests/test_mutants_issue25.py", "tests/test_mf_use_mode.py"],
-    "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_issue25.py",
-                                   "tests/test_diagnose_camber_evidence.py", "tests/test_diagnose.py"],
-    "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_issue25.py",
-                                  "tests/test_diagnose.py"],
+    "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_diagnose_speed.py",
+                                   "tests/test_mutants_issue25.py", "tests/test_diagnose_camber_evidence.py",
+                                   "tests/test_diagnose.py"],
+    "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_diagnose_speed.py",
+                                  "tests/test_mutants_issue25.py", "tests/test_diagnose.py"],
     "tyrefit/io/ttc.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_ttc_lines.py", "tests/test_io_ttc.py",
                           "tests/test_ttc_field.py"],
     "tyrefit/io/outputs.py": ["tests/test_mutants_sampled_io.py", "tests/test_outputs.py",
@@ -171,9 +172,9 @@ NAMED += [
 KNOWN_SURVIVORS = [
     ("tyrefit/models/pac89.py", "f.E) - f.Sv", "equivalent",
      "PAC89's longitudinal Sv is 0 x Fz (longitudinal_factors): x - 0 = x + 0"),
-    ("tyrefit/fitting/engine.py", "if spec.name != 'lateral' and 'a4' in why", "harmless",
-     "one-load lateral fits: c0 already holds c_init's a3/a4 unless the caller gave an initial a3 (a start "
-     "value; the mutant keeps it, as fit_pac89(initial=) says)"),
+    ("tyrefit/fitting/engine.py", "if spec.name != 'lateral' and 'a4' in why", "equivalent",
+     "the block never changes c0: c0 = dict(c_init) already, its conditions rule out a3/a4 from initial= or "
+     "fixed=, and 'a4' in why arises only for the lateral part (need_loads under p == 'lateral')"),
     ("tyrefit/fitting/engine.py", "if (s, i) == ('b7', 'b8') or ('b6' in self.vary", "harmless",
      "with b6 fitted (>= 4 loads) the D and BCD end-load laws are dropped as well; they are inactive for "
      "physical sweeps (longitudinal example: same coefficients to 1e-6)"),
@@ -181,9 +182,6 @@ KNOWN_SURVIVORS = [
      "d.camber holds one value per point and a part is fitted only with sweeps of >= 4 points: never empty"),
     ("tyrefit/fitting/engine.py", "'a3': (2e-09, np.inf)", "harmless",
      "a guard floor on the peak cornering stiffness a3 (N/deg): rig values are ~1e3 (lateral example: 2461)"),
-    ("tyrefit/fitting/initial.py", "rising = last.sum() > 3 and", "harmless",
-     "only a sweep with exactly 3 points past 85 % of its range that peaks early and rises again at its end; "
-     "the estimate seeds the fit"),
     ("tyrefit/fitting/initial.py", "if nl >= 2 and np.ptp(fzk) >= 0:", "equivalent",
      "nl >= 2 distinct load levels give ptp > 0; no caller passes n_levels"),
     ("tyrefit/fitting/initial.py", "if C > 1.0 and B * x_m > 0:", "equivalent",
@@ -206,9 +204,6 @@ KNOWN_SURVIVORS = [
      "imax == imin means a zero range, never >= the positive threshold"),
     ("tyrefit/io/segment.py", "Counter(label[(run <= 0) & (label != '')])", "equivalent",
      "samples of a kept sweep carry no drop label"),
-    ("tyrefit/io/segment.py", "np.median(xs[:max(6, h)])", "harmless",
-     "the dwell trim at windows under 13 samples moves by a sample (8825 v 8826 samples kept of the bundled "
-     "TTC record)"),
     ("tyrefit/fitting/core.py", "small = z < 1.0", "tie",
      "Huber's rho and rho' are continuous at z = 1; only rho'' at exactly z = 1 differs"),
     ("tyrefit/fitting/core.py", "if rel <= tol or dx < tol:", "tie", "a cost fall of exactly tol x the cost"),
@@ -252,8 +247,6 @@ KNOWN_SURVIVORS = [
      "or core names)"),
     ("tyrefit/fitting/mf.py", "g('RBY1', 1) + g('RBY4', 0)", "equivalent",
      "p is always the complete neutral() set plus the stage's values: the default is never used"),
-    ("tyrefit/diagnose/stats.py", "np.count_nonzero(Tb >= T * 1)", "tie",
-     "draws within 1e-9 of T: the W = +-1 draws (T* = T up to rounding)"),
     ("tyrefit/diagnose/stats.py", "rcond=2e-10, hermitian=True) @ sk)", "harmless",
      "the pseudo-inverse's cut-off at 2e-10 instead of 1e-10 of the largest singular value"),
     ("tyrefit/diagnose/engine.py", "if ratio < MISFIT_RATIO or eng.G < 6:", "tie",
@@ -269,14 +262,13 @@ KNOWN_SURVIVORS = [
      "(load noise above about 3 % of the load)"),
     ("tyrefit/fitting/mf.py", "np.sign(float(base.get('PKY1', -1.0))) / np.sign(A)", "equivalent",
      "A is the grid of +-2, 3, 4 deg, never 0: dividing by sign(A) = +-1 is multiplying by it"),
-    ("tyrefit/fitting/mf.py", "np.sign(float(base.get('PKY1', 1.0)))", "harmless",
-     "the default applies only to a base without PKY1; a stage's base is the complete neutral set"),
-    ("tyrefit/fitting/mf.py", "if last[0] is None and (not np.array_equal(last[0], th))", "harmless",
-     "the finite-difference Jacobian reuses the cached residual; SciPy evaluates the residual at x before its "
-     "Jacobian at x, so the cache is current"),
+    ("tyrefit/fitting/mf.py", "np.sign(float(base.get('PKY1', 1.0)))", "equivalent",
+     "the default is never used: every _Problem base is fit_mf's p, mf61.neutral() (which has PKY1) plus the "
+     "stage's values, and _contract_grid is called only from _Problem"),
+    ("tyrefit/fitting/mf.py", "if last[0] is None and (not np.array_equal(last[0], th))", "equivalent",
+     "the cache is always current: r_start = residual(th0) fills it before solve, and SciPy's trf (1.17) asks "
+     "for J only at the point it has just evaluated (trf.py: fun then jac at x0; jac after accepting x_new)"),
     ("tyrefit/fitting/mf.py", "np.geomspace(0.6, 20.0, 60)", "harmless", "the lower end of PKY2's start grid"),
-    ("tyrefit/fitting/mf.py", "if res < best[1]:", "harmless",
-     "the PKY1/PKY2 start estimate's grid search picks another start; the Fy stage refits both"),
     ("tyrefit/fitting/mf.py", "math.pi - phase + 0 / fz", "equivalent", "0 / fz = 0 * fz = 0 on the positive loads"),
 ]
 

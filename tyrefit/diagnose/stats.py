@@ -239,14 +239,17 @@ def crossval_surface(B: np.ndarray, resid: np.ndarray, folds: list[np.ndarray], 
         fold_of[f] = k
     pf = fold_of[sweep]
     k = B.shape[1]
+    # each fold's Gram matrix and moment, made once for every ridge value
+    grams = []
+    for f in range(len(folds)):
+        tr = pf != f
+        grams.append((tr, B[tr].T @ B[tr], B[tr].T @ r[tr]))
     best = None
     for lam in ridge:
         pred = np.empty(len(r))
-        for f in range(len(folds)):
-            tr = pf != f
-            A = B[tr].T @ B[tr]
+        for tr, A, b in grams:
             pen = lam * max(np.trace(A) / k, 1e-300)
-            pred[~tr] = B[~tr] @ np.linalg.solve(A + pen * np.eye(k), B[tr].T @ r[tr])
+            pred[~tr] = B[~tr] @ np.linalg.solve(A + pen * np.eye(k), b)
         mse_cv = float(np.mean((r - pred) ** 2))
         if best is None or mse_cv < best[1]:
             best = (lam, mse_cv)
