@@ -49,9 +49,10 @@ LAYERS: list[list[str]] = [
 #: function-level imports of tyrefit's own modules (this checker counts each module named): 218 before the
 #: contract was written, 146 after hoisting those that point to a lower layer, 144 after the rig split
 #: (rig/pipeline.py's io.readers, rig/report.py's rig.static), 141 with commands/diagnose.py's at module level, 138 with diagnose's workflow in workflows/diagnose.py,
-#: 136 with commands/fit.py's io.facets at module level;
+#: 136 with commands/fit.py's io.facets at module level, 106 with the sim scenario parsers in cli.py (commands/sim.py
+#: off the start-up path) and cli.py's, commands/sim.py's and sim/api.py's at module level;
 #: lower it when you hoist imports, never raise it
-FUNCTION_LEVEL_MAX = 136
+FUNCTION_LEVEL_MAX = 106
 
 
 def _component(module: str) -> str:

@@ -36,7 +36,10 @@ import importlib
 import math
 from collections.abc import Sequence
 
-from .errors import TyrefitError, cli_style
+from ._version import __version__
+from .errors import OutputError, TyrefitError, ValueRangeError, cli_style
+from .io.inputs import DEFAULT_MAX_MB, check_input, set_max_size_mb
+from .io.outputs import check_output, check_report_dir, current_run, os_error_message, output_run
 
 __all__ = ["main", "build_parser", "run_checked"]
 
@@ -62,8 +65,6 @@ NUMERIC_FLAGS: dict[str, tuple[float | None, float | None, bool, str]] = {
 
 def validate_numbers(args: argparse.Namespace) -> None:
     """Refuse NaN, inf and out-of-range values of :data:`NUMERIC_FLAGS` (one-line ValueRangeError)."""
-    from .errors import ValueRangeError
-
     for name, (lo, hi, lo_open, text) in NUMERIC_FLAGS.items():
         v = getattr(args, name, None)
         if v is None or isinstance(v, bool) or not isinstance(v, (int, float)):
@@ -75,8 +76,6 @@ def validate_numbers(args: argparse.Namespace) -> None:
 
 
 def _common() -> argparse.ArgumentParser:
-    from .io.inputs import DEFAULT_MAX_MB
-
     p = argparse.ArgumentParser(add_help=False)
     p.add_argument("--force", action="store_true", help="replace existing outputs")
     p.add_argument("--debug", action="store_true", help="show tracebacks on errors")
@@ -99,6 +98,42 @@ def _allow_mirrored(p: argparse.ArgumentParser) -> None:
     p.add_argument("--allow-mirrored", action="store_true",
                    help="fit (inspect: do not list as a problem) data whose camber thrust, pneumatic trail or Fx "
                         "has the sign of a mirrored tyre")
+
+
+def add_scenario_parsers(ssub, common, allow_unphysical) -> None:
+    """The ``sim braking|straight|curved|ramp|step_steer|braking_turn`` subparsers."""
+    for name, text in (("braking", "emergency braking, 30/60/120 km/h, conditions 0.5 and 1.0"),
+                       ("straight", "accelerate to speed then brake on a straight path"),
+                       ("curved", "straight, arc at half the UK desirable minimum radius, straight"),
+                       ("ramp", "steady-state constant-radius ramp to the limit: understeer gradient, lateral "
+                                "limit"),
+                       ("step_steer", "step steer from straight running (ISO 7401 style): yaw-rate and lateral-"
+                                      "acceleration rise time, overshoot, steady-state gain"),
+                       ("braking_turn", "braking in a turn (ISO 7975 style): deceleration, yaw-rate and path "
+                                        "deviation, stopping distance")):
+        s = ssub.add_parser(name, parents=[common], help=text)
+        s.add_argument("--front", metavar="F.tir", help="front (hard, low-wear) tyre; default the bundled one")
+        s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
+        s.add_argument("--vehicle", metavar="FILE|PRESET", default="ev",
+                       help="vehicle file (TOML or JSON) or preset: ev (default, seed 000's car), fsae, light_truck")
+        s.add_argument("--strict", action="store_true",
+                       help="refuse when a tyre works outside the load/slip envelope its file declares")
+        s.add_argument("--road-friction", type=float, default=1.0, metavar="FACTOR",
+                       help="the road's friction as a factor on the tyres' test surface (default 1; belt-rig data "
+                            "such as FSAE TTC's typically need 0.6-0.7 for a dry track): peak forces scale, "
+                            "slip stiffnesses do not")
+        if name == "step_steer":
+            s.add_argument("--speed", type=float, default=None, metavar="KMH", help="speed [km/h] (default 80)")
+            s.add_argument("--ay", type=float, default=None, metavar="G",
+                           help="steady-state lateral acceleration the step aims at [g] (default 0.4)")
+        if name == "braking_turn":
+            s.add_argument("--radius", type=float, default=None, metavar="M",
+                           help="radius of the steady cornering before braking [m] (default 100)")
+            s.add_argument("--ay", type=float, default=None, metavar="G",
+                           help="lateral acceleration of the steady cornering [g] (default 0.5)")
+        s.add_argument("--json", metavar="OUT.json")
+        s.add_argument("--report", metavar="DIR")
+        allow_unphysical(s)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -181,8 +216,6 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sim", help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")
     ssub = p.add_subparsers(dest="scenario", metavar="SCENARIO", parser_class=_Parser)
     ssub.required = True
-    from .commands.sim import add_scenario_parsers
-
     add_scenario_parsers(ssub, common, _allow_unphysical)
     s = ssub.add_parser("adhesion", parents=[common], help="EKF road-adhesion estimation (seed 001)")
     s.add_argument("--road-mu", type=float, default=0.8, metavar="MU")
@@ -257,8 +290,6 @@ def _module_for(args: argparse.Namespace) -> str:
 
 
 def _version() -> str:
-    from ._version import __version__
-
     return f"tyrefit {__version__}"
 
 
@@ -277,8 +308,6 @@ def _paths(v) -> list[str]:
 
 def _io_plan(args: argparse.Namespace) -> tuple[list[str], list[str], list[str]]:
     """(input files, output files, report folders) named by the arguments."""
-    from .io.inputs import check_input
-
     inputs: list[str] = []
     for name in INPUT_ATTRS:
         for v in _paths(getattr(args, name, None)):
@@ -303,9 +332,6 @@ def _io_plan(args: argparse.Namespace) -> tuple[list[str], list[str], list[str]]
 
 def _preflight(args: argparse.Namespace, inputs, files, folders) -> None:
     """Refuse bad outputs before any work: inputs as outputs, duplicates, folders, existing files."""
-    from .errors import OutputError
-    from .io.outputs import check_output, check_report_dir, current_run
-
     run = current_run()
     force = bool(getattr(args, "force", False))
     seen: dict[str, str] = {}
@@ -332,9 +358,6 @@ def _preflight(args: argparse.Namespace, inputs, files, folders) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .io.inputs import set_max_size_mb
-    from .io.outputs import output_run
-
     validate_numbers(args)
     set_max_size_mb(getattr(args, "max_size", None))
     inputs, files, folders = _io_plan(args)
@@ -472,7 +495,6 @@ def _main(args: argparse.Namespace) -> int:
     except OSError as exc:  # an output or input the operating system refused
         if debug:
             raise
-        from .io.outputs import os_error_message
 
         what = "cannot read or write"
         print(f"tyrefit {args.command}: error: {' '.join(os_error_message(exc, None, what).split())}",

@@ -29,6 +29,14 @@ import numpy as np
 
 from ..errors import DataError
 from ..io.outputs import check_output, staged_dir, write_text
+from ..io.report import Report
+from ..sim.api import SCENARIOS, simulate
+from ..sim.envelope import envelope_figure
+from ..sim.plots import (braking_figure, braking_turn_figure, ramp_figure, scenario_figure, step_steer_figure,
+                         traces_frame)
+from ..sim.scenarios import SimSetup
+from ..sim.tyres import default_tyres, load_tyre
+from ..cli import add_scenario_parsers  # noqa: F401  (public here too; the parsers live with the command line's)
 
 __all__ = ["run", "sim_report", "ramp_report", "step_steer_report", "braking_turn_report", "jsonable",
            "add_scenario_parsers"]
@@ -57,9 +65,6 @@ def jsonable(x):
 
 
 def _setup(args):
-    from ..sim.scenarios import SimSetup
-    from ..sim.tyres import default_tyres, load_tyre
-
     allow = getattr(args, "allow_unphysical", False)
     front = load_tyre(args.front, allow_unphysical=allow) if getattr(args, "front", None) else None
     rear = load_tyre(args.rear, allow_unphysical=allow) if getattr(args, "rear", None) else None
@@ -92,9 +97,6 @@ def _summary(res) -> str:
 
 def sim_report(res):
     """HTML :class:`~tyrefit.io.report.Report` of a scenario result (figures embedded)."""
-    from ..io.report import Report
-    from ..sim.plots import braking_figure, scenario_figure
-
     st = res.setup
     r = Report(_TITLES[res.scenario],
                subtitle="Pham, Hamedmoghadam, Shorten (seed 000): low-wear hard tyres on the front axle, soft "
@@ -205,9 +207,6 @@ def _ramp_summary(run_) -> str:
 
 def ramp_report(run_):
     """HTML report of a ramp: steering, body slip, slip angles and wheel loads over a_y, and the envelope."""
-    from ..io.report import Report
-    from ..sim.plots import ramp_figure
-
     d = run_.json
     r = Report(f"Constant-radius ramp: {run_.vehicle.name}",
                subtitle="Steady states on a circle at rising speed (ISO 4138 style), with lateral load transfer "
@@ -264,9 +263,6 @@ def _notes(r, notes) -> None:
 
 def step_steer_report(run_):
     """HTML report of a step steer: time responses with rise time, overshoot and steady-state gain."""
-    from ..io.report import Report
-    from ..sim.plots import step_steer_figure
-
     d = run_.json
     r = Report(f"Step steer: {run_.vehicle.name}", subtitle="Steering step from straight running at constant "
                "speed (ISO 7401 style), with load transfer and aerodynamic load.")
@@ -282,9 +278,6 @@ def step_steer_report(run_):
 
 def braking_turn_report(run_):
     """HTML report of braking in a turn: paths, speed, yaw-rate deviation and deceleration per brake demand."""
-    from ..io.report import Report
-    from ..sim.plots import braking_turn_figure
-
     d = run_.json
     r = Report(f"Braking in a turn: {run_.vehicle.name}",
                subtitle=f"Steady cornering on R = {d['radius_m']:g} m at {d['initial_ay_g']:.2f} g, then braking "
@@ -301,8 +294,6 @@ _REPORTS = {"ramp": ramp_report, "step_steer": step_steer_report, "braking_turn"
 
 
 def _envelope_section(r, run_) -> None:
-    from ..sim.envelope import envelope_figure
-
     r.h2("Where the tyres worked")
     r.table([{"tyre": role, "file": s["file"], "outside envelope [% of time]": 100 * s["outside_envelope"],
               "worst": s["worst"] or ""} for role, s in run_.json["tyres"].items()])
@@ -311,48 +302,10 @@ def _envelope_section(r, run_) -> None:
              "declares (grey box: the fitted ranges of load, slip angle and slip ratio); red points are outside.")
 
 
-def add_scenario_parsers(ssub, common, allow_unphysical) -> None:
-    """The ``sim braking|straight|curved|ramp`` subparsers (cli.py calls this)."""
-    for name, text in (("braking", "emergency braking, 30/60/120 km/h, conditions 0.5 and 1.0"),
-                       ("straight", "accelerate to speed then brake on a straight path"),
-                       ("curved", "straight, arc at half the UK desirable minimum radius, straight"),
-                       ("ramp", "steady-state constant-radius ramp to the limit: understeer gradient, lateral "
-                                "limit"),
-                       ("step_steer", "step steer from straight running (ISO 7401 style): yaw-rate and lateral-"
-                                      "acceleration rise time, overshoot, steady-state gain"),
-                       ("braking_turn", "braking in a turn (ISO 7975 style): deceleration, yaw-rate and path "
-                                        "deviation, stopping distance")):
-        s = ssub.add_parser(name, parents=[common], help=text)
-        s.add_argument("--front", metavar="F.tir", help="front (hard, low-wear) tyre; default the bundled one")
-        s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
-        s.add_argument("--vehicle", metavar="FILE|PRESET", default="ev",
-                       help="vehicle file (TOML or JSON) or preset: ev (default, seed 000's car), fsae, light_truck")
-        s.add_argument("--strict", action="store_true",
-                       help="refuse when a tyre works outside the load/slip envelope its file declares")
-        s.add_argument("--road-friction", type=float, default=1.0, metavar="FACTOR",
-                       help="the road's friction as a factor on the tyres' test surface (default 1; belt-rig data "
-                            "such as FSAE TTC's typically need 0.6-0.7 for a dry track): peak forces scale, "
-                            "slip stiffnesses do not")
-        if name == "step_steer":
-            s.add_argument("--speed", type=float, default=None, metavar="KMH", help="speed [km/h] (default 80)")
-            s.add_argument("--ay", type=float, default=None, metavar="G",
-                           help="steady-state lateral acceleration the step aims at [g] (default 0.4)")
-        if name == "braking_turn":
-            s.add_argument("--radius", type=float, default=None, metavar="M",
-                           help="radius of the steady cornering before braking [m] (default 100)")
-            s.add_argument("--ay", type=float, default=None, metavar="G",
-                           help="lateral acceleration of the steady cornering [g] (default 0.5)")
-        s.add_argument("--json", metavar="OUT.json")
-        s.add_argument("--report", metavar="DIR")
-        allow_unphysical(s)
-
-
 def run(args) -> int:
     """Entry point of ``tyrefit sim braking|straight|curved|ramp``: one :func:`tyrefit.sim.api.simulate` call."""
     import sys
 
-    from ..sim.api import SCENARIOS, simulate
-    from ..sim.plots import traces_frame
 
     scenario = args.scenario
     if scenario not in SCENARIOS:  # pragma: no cover - argparse restricts the choices

@@ -15,8 +15,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import DataError, ValueRangeError, option, render
+from ..errors import DataError, ValueRangeError, close_matches, option, render
 from ..nomenclature import G0
+from .envelope import envelope_summary, points_from_paper_result, points_from_ramp
+from .handling import run_ramp
+from .scenarios import SimSetup, run_scenario
+from .transient import points_from_trace, run_braking_turn, run_step_steer
+from .tyres import default_tyres, load_tyre
 from .vehicle_file import VehicleSpec, load_vehicle
 from ..tyres.base import Tyre
 
@@ -44,8 +49,6 @@ class SimRun:
 
 
 def _tyre(t, allow_unphysical: bool):
-    from .tyres import load_tyre
-
     if t is None or isinstance(t, Tyre):
         return t, (getattr(t, "name", None) if t is not None else None)
     return load_tyre(t, allow_unphysical=allow_unphysical), str(t)
@@ -89,12 +92,7 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
     SimRun
         ``.json`` is the ``sim --json`` document; ``.warnings`` the out-of-envelope warnings.
     """
-    from .envelope import envelope_summary, points_from_paper_result, points_from_ramp
-    from .tyres import default_tyres
-
     if scenario not in SCENARIOS:
-        from ..errors import close_matches
-
         raise DataError(f"unknown scenario {scenario!r}{close_matches(scenario, SCENARIOS)}; accepted: "
                         f"{', '.join(SCENARIOS)}")
     spec = load_vehicle(vehicle)
@@ -109,8 +107,6 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
         f, r = f.on_road(road_friction), r.on_road(road_friction)
     tyres = {"front": f, "rear": r}
     if scenario in PAPER_SCENARIOS:
-        from .scenarios import SimSetup, run_scenario
-
         setup = SimSetup(front=f, rear=r, vehicle=spec.to_params())
         res = run_scenario(scenario, setup)
         doc = res.to_json()
@@ -118,15 +114,11 @@ def simulate(scenario: str, front=None, rear=None, vehicle: "str | os.PathLike |
         points = {role: points_from_paper_result(res, role, fz) for role in ("front", "rear")}
         doc.update(_paper_notes(doc, scenario, spec))
     elif scenario == "ramp":
-        from .handling import run_ramp
-
         res = run_ramp(spec, f, r, radius=radius)
         doc = {"scenario": "ramp", **res.to_json()}
         points = {role: points_from_ramp(res, role) for role in ("front", "rear")}
         doc["envelope_limit_g"] = envelope_limit_g(res, tyres, points)
     else:
-        from .transient import points_from_trace, run_braking_turn, run_step_steer
-
         if scenario == "step_steer":
             res = run_step_steer(spec, f, r, **{k: v for k, v in (("speed_kmh", speed_kmh), ("ay_g", ay_g))
                                                 if v is not None})
