@@ -64,6 +64,7 @@ from ..fitting.core import Parameters, solve
 from ..fitting.noise import LagOneNoise, noise_floor
 from ..models import pac89
 from .data import SweepData, prepare, segments, slip_ratio_segments
+from .engine import CAMBER_ALPHA, _camber_evidence
 
 __all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
            "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS"]
@@ -597,6 +598,13 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
             level = s.alpha / (2.0 * max(len(round_steps), 1))
             for eid, st in round_steps.items():
                 ev = _evidence(cur, st, cd, floor, rho, s, level)
+                factor = _CONTRAST_FACTOR.get(catalogue[eid].family)
+                if ev["status"] == "passed" and factor:
+                    # as on Fy: camber and pressure are named only where the residual differs between their
+                    # levels consistently from load to load (a misfit common to every sweep is not theirs)
+                    why = _camber_evidence(cd.sweeps, cur.resid, CAMBER_ALPHA, factor=factor)
+                    if why is not None:
+                        ev.update(status="rejected", reason=why)
                 ev["round"] = rnd
                 evidence[eid] = ev
                 if ev["status"] == "passed" and (best is None or ev["delta_heldout"] > best[1]["delta_heldout"]):
@@ -627,6 +635,11 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
              for eid in catalogue]
     return ChannelDiagnosis(ch, cd, [], accepted, steps, cands, float(floor), unexplained,
                             _pac89_export(cd, cur, fixed), seconds=time.perf_counter() - t0)
+
+
+#: families whose name needs the contrast between their condition's levels (:func:`.engine._camber_evidence`)
+_CONTRAST_FACTOR = {"mz_camber": "camber", "fx_camber": "camber", "mz_pressure": "pressure",
+                    "fx_pressure": "pressure"}
 
 
 def _contained(old: Effect, new: Effect) -> bool:
