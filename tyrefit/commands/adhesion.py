@@ -26,6 +26,9 @@ import numpy as np
 
 from ..errors import ValueRangeError
 from ..io.outputs import check_outputs, write_text
+from ..io.report import Report
+from ..sim import vehicle7dof as v7
+from ..sim.adhesion import Manoeuvre, run_experiment
 
 __all__ = ["run", "adhesion_report", "result_dict"]
 
@@ -65,9 +68,6 @@ def result_dict(road_mu: float, camber_deg: float, results: dict, manoeuvre, tru
 def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
     """HTML report: convergence plots of both models, the truth's traces, the camber sweep."""
     from matplotlib.figure import Figure
-
-    from ..io.report import Report
-    from ..sim import vehicle7dof as v7
 
     r = Report(f"Road adhesion estimation: mu = {road_mu:g}, camber {camber_deg:g} deg",
                subtitle="Seed 001 (Zhang et al. 2024), §4: 7-DOF vehicle, camber brush tyres, extended Kalman "
@@ -134,8 +134,6 @@ def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
 
 def run(args) -> int:
     """Entry point of ``tyrefit sim adhesion``."""
-    from ..sim.adhesion import Manoeuvre, run_experiment
-
     mu, cam = _check(args)
     check_outputs(args)
     man = Manoeuvre()

@@ -17,6 +17,11 @@ from pathlib import Path
 import numpy as np
 
 from ..io.outputs import check_outputs, write_text
+from ..compare.tyres import compare_tyres
+from ..io.readers import read_data
+from ..io.report import Report
+from ..io.tir import read_tyre  # every family (PAC89, MF 5.2, MF 6.1/6.2) behind the Tyre interface
+from ..tyres.base import require_physical  # unphysical over the declared range: refused unless allowed
 
 __all__ = ["run"]
 
@@ -79,24 +84,17 @@ def _channel_line(ch: str, rows: list, names) -> str:
 
 def run(args) -> int:
     """Entry point of ``tyrefit compare``."""
-    from ..compare.tyres import compare_tyres
-
-    from ..io.tir import read_tyre  # every family (PAC89, MF 5.2, MF 6.1/6.2) behind the Tyre interface
-
     check_outputs(args)
     ta = read_tyre(args.tyre_a)
     tb = read_tyre(args.tyre_b)
     for t in (ta, tb):  # how a file that does not declare its family was read (no [MODEL] section)
         for note in getattr(t, "file_notes", []):
             print(f"warning: {note}")
-    from ..tyres.base import require_physical  # unphysical over the declared range: refused unless allowed
 
     for path, tyre in ((args.tyre_a, ta), (args.tyre_b, tb)):
         require_physical(tyre, str(path), allow_unphysical=getattr(args, "allow_unphysical", False))
     data = None
     if args.data:
-        from ..io.readers import read_data
-
         data = read_data(args.data, convention=args.convention or "iso")
     na, nb = Path(args.tyre_a).stem, Path(args.tyre_b).stem
     if na == nb:
@@ -108,8 +106,6 @@ def run(args) -> int:
         write_text(args.json, json.dumps(doc, indent=2, default=_json_default, allow_nan=False) + "\n",
                    force=args.force)
     if args.report:
-        from ..io.report import Report
-
         r = Report(f"tyrefit compare: {na} vs {nb}",
                    f"tyrefit compare {args.tyre_a} {args.tyre_b}" + (f" --data {args.data}" if args.data else ""))
         cmp.report_section(r, title="Load by load")

@@ -31,7 +31,12 @@ import pandas as pd
 
 from .. import nomenclature as nm
 from ..errors import ColumnError, DataError
-from ..io.outputs import check_output
+from ..io.inputs import check_input
+from ..io.outputs import atomic_write, check_output
+from ..io.readers import _decode, _read_bytes, parse_csv
+from ..io.table import map_headers
+from ..io.tir import read_tyre
+from ..tyres.base import require_physical
 
 import orjson as _orjson  # fast shortest round-trip float text for the output CSV (Ryu, as repr)
 
@@ -53,8 +58,6 @@ def read_points(path: str | Path):
         no ``fz`` column, no slip column, a value that is not a number, an
         unknown unit (named by the readers).
     """
-    from ..io.readers import _decode, _read_bytes, parse_csv
-
     p = Path(path)
     t = parse_csv(p, _decode(p, _read_bytes(p)))
     return _points_si(p, t.values, t.units, t.headers, t.lines), t
@@ -166,8 +169,6 @@ def write_forces(out, tyre, si: dict[str, np.ndarray], table, force: bool = Fals
                  chunk: int | None = None) -> list[str]:
     """Evaluate ``tyre`` at the points ``si`` chunk by chunk and write the input columns and the forces to
     ``out`` (atomically); return the output headers written."""
-    from ..io.outputs import atomic_write
-
     n = len(next(iter(si.values()))) if si else 0
     chunk = max(int(CHUNK if chunk is None else chunk), 1)
     written: list[str] = []
@@ -244,10 +245,6 @@ def stream_forces(out, tyre, points, force: bool = False, chunk: int | None = No
     import csv as _csv
     import io as _io
 
-    from ..io.inputs import check_input
-    from ..io.outputs import atomic_write
-    from ..io.table import map_headers
-
     p = check_input(points, "a data file (CSV, TYDEX .tdx or FSAE TTC .dat)")
     chunk = max(int(CHUNK if chunk is None else chunk), 1)
     try:
@@ -317,9 +314,6 @@ def _display(k: str, x: float) -> str:
 
 def run(args) -> int:
     """Entry point of ``tyrefit eval``."""
-    from ..io.tir import read_tyre
-    from ..tyres.base import require_physical
-
     out = Path(args.out)
     check_output(out, args.force)
     for src in (args.tyre, args.points):

@@ -17,7 +17,10 @@ from pathlib import Path
 
 from ..errors import DataError
 from ..io.facets import channel_levels, format_condition, format_levels, sweep_conditions
-from ..io.outputs import check_outputs
+from ..fitting.result import unfitted_figures
+from ..io.chrono_json import chrono_dict
+from ..io.outputs import check_output, check_outputs, write_text
+from ..io.report import Report
 from ..workflows.fit import _effect_ids, fit, fit_pac89_record, read_checked
 from .fit_mf import print_plausibility, run_mf
 
@@ -47,8 +50,6 @@ def fit_file(args, ds=None):
 
 
 def _report(result, extras, args, out: Path, rdir: Path | None = None, title: str | None = None) -> None:
-    from ..io.report import Report
-
     rdir = Path(rdir or args.report)
     sub = f"tyrefit fit {args.data} → {out.name}"
     if extras["effects"]:
@@ -90,7 +91,6 @@ def _report(result, extras, args, out: Path, rdir: Path | None = None, title: st
             extras["static"].report_section(r, model=result.tyre)
         except TypeError:
             extras["static"].report_section(r)
-    from ..io.outputs import write_text
 
     write_text(rdir / "sweeps.csv", result.sweeps_table().to_csv(index=False), force=True)
     r.save(rdir, force=args.force)
@@ -117,8 +117,6 @@ def run(args) -> int:
         return _run_by(args, out)
     result, extras = fit_file(args)
     if getattr(args, "json", None):
-        from ..io.chrono_json import chrono_dict
-
         chrono_dict(result.tyre)  # refuses, before anything is written, a JSON Chrono could not load
     result.tyre.to_tir(out, force=args.force)
     if getattr(args, "json", None):
@@ -191,8 +189,6 @@ def _run_by(args, out: Path) -> int:
 
     import pandas as pd
 
-    from ..io.outputs import check_output, write_text
-
     ch = args.by
     ds, plaus = read_checked(args.data, getattr(args, "convention", "iso") or "iso",
                              bool(getattr(args, "allow_mirrored", False)))
@@ -231,8 +227,6 @@ def _run_by(args, out: Path) -> int:
                                      f"{format_condition(ch, float(lv))}, {len(runs)} sweeps")
         fits.append((lv, tag, tir, js, runs, result, extras))
     if json_path:
-        from ..io.chrono_json import chrono_dict
-
         for *_, result, extras in fits:
             chrono_dict(result.tyre)  # refuses, before anything is written, a JSON Chrono could not load
     rows = []
@@ -251,8 +245,6 @@ def _run_by(args, out: Path) -> int:
     table = pd.DataFrame(rows)
     write_text(table_path, table.to_csv(index=False), force=True)
     if getattr(args, "report", None):
-        from ..io.report import Report
-
         rdir = Path(args.report)
         r = Report(f"PAC89 fit per {ch} level — {Path(args.data).name}",
                    f"tyrefit fit {args.data} --by {ch}: one tyre per {ch} level")
@@ -308,7 +300,6 @@ def _unfitted_section(r, result, ds) -> None:
     """Report section drawing the sweeps of the file that no fitted part used (combined slip for PAC89)."""
     if ds is None or getattr(ds, "kind", "") not in ("slip_angle", "slip_ratio") or "run" not in ds.df:
         return
-    from ..fitting.result import unfitted_figures
 
     used = set()
     for part in result.parts:

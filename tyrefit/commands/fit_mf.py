@@ -21,6 +21,8 @@ import os
 from pathlib import Path
 
 from ..errors import DataError
+from ..io.outputs import write_text
+from ..io.report import Report
 from ..workflows.fit import _effect_ids, fit
 
 __all__ = ["run_mf", "fit_mf_files", "print_plausibility"]
@@ -47,9 +49,6 @@ def fit_mf_files(args, datas):
 
 
 def _report(result, start, args, out: Path, datas) -> None:
-    from ..io.outputs import write_text
-    from ..io.report import Report
-
     rdir = Path(args.report)
     names = ", ".join(Path(d).name for d in datas)
     r = Report(f"Magic Formula {result.version} fit — {names}",

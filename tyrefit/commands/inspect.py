@@ -25,9 +25,12 @@ import numpy as np
 import pandas as pd
 
 from ..errors import FormatError, ModelError
+from ..io.chrono_json import read_chrono_json
 from ..io.outputs import check_output, write_text
+from ..io.plausibility import mirrored_findings
 from ..io.readers import (KINDS, Dataset, condition_levels, lateral_slope, plausibility_problems, read_data,
                           sniff_format)
+from ..io.tir import read_property_file, read_tyre
 from ..tyres.pac89 import CHRONO_LIMITS
 
 __all__ = ["run", "inspect_file", "inspect_data", "inspect_tyre", "format_summary"]
@@ -76,7 +79,6 @@ def inspect_data(ds: Dataset, allow_mirrored: bool = False) -> dict[str, Any]:
         if key in ds.meta:
             out[key] = ds.meta[key]
     out["problems"] = plausibility_problems(ds)  # what fit/diagnose would refuse, said instead of refused
-    from ..io.plausibility import mirrored_findings
 
     mirrored = [f.message for f in mirrored_findings(ds)]  # fit refuses these unless --allow-mirrored
     out["mirrored"] = mirrored
@@ -139,12 +141,8 @@ def inspect_tyre(p: Path, fmt: str | None = None) -> dict[str, Any]:
     full PAC89 file: a0-a13, b0-b10, c0-c17); ``values`` counts every numeric
     entry of the file.
     """
-    from ..io.tir import read_tyre
-
     fmt = fmt or sniff_format(p)
     if fmt == "tir":
-        from ..io.tir import read_property_file
-
         pf = read_property_file(p)
         coef = {s: sum(isinstance(v, (int, float)) for v in sec.values()) for s, sec in pf.sections.items()
                 if s.endswith("_COEFFICIENTS") and s != "SCALING_COEFFICIENTS"}
@@ -163,7 +161,6 @@ def inspect_tyre(p: Path, fmt: str | None = None) -> dict[str, Any]:
             out["name"] = str(name)
         out.update(_tyre_model(read_tyre(p)))
         return out
-    from ..io.chrono_json import read_chrono_json
 
     text = p.read_text(encoding="utf-8-sig", errors="replace")
     template = None

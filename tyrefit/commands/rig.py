@@ -14,6 +14,10 @@ from pathlib import Path
 
 from ..errors import DataError
 from ..io.outputs import check_outputs
+from ..io.readers import read_data
+from ..io.report import Report
+from ..nomenclature import G0
+from ..rig import calibrate, prepare_static_fit
 
 __all__ = ["run", "calibration_report"]
 
@@ -23,10 +27,6 @@ def calibration_report(cal, static_ds, dynamic_ds, patch_ds, title: str = "Eq. 1
     import matplotlib
     from matplotlib.figure import Figure
     import numpy as np
-
-    from ..nomenclature import G0
-    from ..io.report import Report
-    from ..rig import prepare_static_fit
 
     r = Report(title, cal.summary())
     r.h2("What the calibration means")
@@ -84,8 +84,6 @@ def run(args) -> int:
     """Entry point of ``tyrefit rig``."""
     if args.rig_command != "calibrate":  # pragma: no cover - argparse restricts the choices
         raise DataError(f"unknown rig command {args.rig_command!r}; accepted: calibrate")
-    from ..io.readers import read_data
-    from ..rig import calibrate
 
     out = Path(args.out)
     check_outputs(args)

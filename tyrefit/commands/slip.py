@@ -22,6 +22,8 @@ import numpy as np
 
 from ..errors import DataError
 from ..io.outputs import check_outputs, write_text
+from ..io.readers import read_data
+from ..io.report import Report
 from ..models import slip as sl
 from ..fitting.slip import SlipAnalysis, analyse_slip
 
@@ -58,8 +60,6 @@ def _summary(a: SlipAnalysis) -> str:
 def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)"):
     """An HTML :class:`tyrefit.io.report.Report` of a slip analysis."""
     from matplotlib.figure import Figure
-
-    from ..io.report import Report
 
     r = Report(title, subtitle=f"data: {a.source}" if a.source else None)
     r.p("Longitudinal friction against slip, fitted with mu = mu_p (1 - exp(-k s)) (Ghasemi et al., Eq. 8). "
@@ -114,8 +114,6 @@ def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)")
 
 def run(args) -> int:
     """Entry point of ``tyrefit slip``."""
-    from ..io.readers import read_data
-
     check_outputs(args)
     ds = read_data(args.data, convention=getattr(args, "convention", "iso"))
     if ds.kind != "slip_ratio" and not {"torque", "rolling_radius"} <= set(ds.df.columns):

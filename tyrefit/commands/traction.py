@@ -23,6 +23,11 @@ import json
 import numpy as np
 
 from ..io.outputs import check_outputs, write_text
+from ..io.readers import read_data
+from ..io.report import Report
+from ..sim.traction import traction_from_data
+from ..sim.tyres import AxleTyre, default_tyres
+from ..sim.vehicle import DEFAULT_VEHICLE
 
 __all__ = ["run", "traction_report", "traction_dict"]
 
@@ -30,9 +35,6 @@ __all__ = ["run", "traction_report", "traction_dict"]
 def _bundled_pair(b: float) -> dict | None:
     """k for the default tyres of ``tyrefit sim`` at the default vehicle's front axle load."""
     try:
-        from ..sim.tyres import AxleTyre, default_tyres
-        from ..sim.vehicle import DEFAULT_VEHICLE
-
         front, rear = default_tyres()
     except Exception:  # noqa: BLE001 - no bundled tyres: leave the pair out
         return None
@@ -61,8 +63,6 @@ def traction_dict(table) -> dict:
 def traction_report(table, d: dict):
     """HTML report: the tyres, the fit against HPwizard's law, k against the friction ratio."""
     from matplotlib.figure import Figure
-
-    from ..io.report import Report
 
     fit = table.fit
     r = Report("Treadwear against traction (seed 000, Eq. 41-43)",
@@ -112,9 +112,6 @@ def traction_report(table, d: dict):
 
 def run(args) -> int:
     """Entry point of ``tyrefit traction``."""
-    from ..io.readers import read_data
-    from ..sim.traction import traction_from_data
-
     check_outputs(args)
     ds = read_data(args.data, kind="braking")
     table = traction_from_data(ds)
