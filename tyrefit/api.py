@@ -19,7 +19,13 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 
+from .compare import workflow as _compare
 from .errors import DataError
+from .io.readers import read_data as _read_data
+from .io.tir import read_tyre as _read_tyre
+from .sim.api import simulate as _simulate
+from .workflows.diagnose import diagnose as _diagnose
+from .workflows.fit import fit as _fit
 
 __all__ = ["read_data", "read_tyre", "fit", "diagnose", "compare", "simulate"]
 
@@ -31,18 +37,15 @@ def read_data(path, convention: str = "iso", kind: str | None = None):
 
     ``convention``: the file's sign convention, 'iso' or 'sae' (FSAE TTC: Fz negative).
     """
-    from .io.readers import read_data as _read
-
     if convention not in ("iso", "sae"):
         raise DataError(f"convention={convention!r}: 'iso' or 'sae'")
-    return _read(path, convention=convention) if kind is None else _read(path, convention=convention, kind=kind)
+    return (_read_data(path, convention=convention) if kind is None
+            else _read_data(path, convention=convention, kind=kind))
 
 
 def read_tyre(path):
     """Read any tyre file tyrefit reads (PAC89 ``.tir``, MF 5.x/PAC2002, MF 6.1/6.2, Chrono JSON)."""
-    from .io.tir import read_tyre as _read
-
-    return _read(path)
+    return _read_tyre(path)
 
 
 def _path(x) -> str | None:
@@ -96,8 +99,6 @@ def fit(data, *, model: str = "pac89", cost: str = "l2", effects: Sequence[str] 
     ``tyre`` (``to_tir``, ``forces``), ``summary()``, ``plot(ax=None)``, ``to_frame()``, ``report(dir)``,
     ``_repr_html_``.
     """
-    from .workflows.fit import fit as _fit
-
     return _fit(data, model=model, cost=cost, effects=effects, size=size, rated_load=rated_load,
                 patch=_path(patch), rig=_path(rig), vertical=_path(vertical), static_part=static_part,
                 convention=convention, allow_mirrored=allow_mirrored, params=params)
@@ -113,8 +114,6 @@ def diagnose(data, *, start: Sequence[str] | None = None, rated_load: float | No
     diagnoses the Magic Formula tyre ``fit --model`` writes.  ``patch``, ``rig``, ``vertical``, ``static_part``
     convert static-rig pushes as :func:`fit` does.
     """
-    from .workflows.diagnose import diagnose as _diagnose
-
     return _diagnose(data, start=start or (), rated_load=rated_load, convention=convention, seed=seed, base=base,
                      channels=channels, patch=_path(patch), rig=_path(rig), vertical=_path(vertical),
                      static_part=static_part)
@@ -123,13 +122,9 @@ def diagnose(data, *, start: Sequence[str] | None = None, rated_load: float | No
 def compare(a, b, data=None, *, convention: str = "iso", names: Sequence[str] | None = None,
             allow_unphysical: bool = False):
     """Two tyres on the quantities engineers read, channel by channel (:func:`tyrefit.compare.workflow`)."""
-    from .compare import workflow
-
-    return workflow(a, b, data, convention=convention, names=names, allow_unphysical=allow_unphysical)
+    return _compare(a, b, data, convention=convention, names=names, allow_unphysical=allow_unphysical)
 
 
 def simulate(scenario: str, front=None, rear=None, vehicle="ev", **options):
     """A vehicle scenario with the given tyres on a vehicle (preset name, file or spec): ``tyrefit sim``."""
-    from .sim.api import simulate as _simulate
-
     return _simulate(scenario, front=front, rear=rear, vehicle=vehicle, **options)

@@ -2,6 +2,9 @@
 camber brush model against PAC89 (:mod:`.brush`)."""
 
 from .._callable import callable_package
+from ..io.readers import read_data
+from ..io.tir import read_tyre
+from ..tyres.base import Tyre, require_physical
 from .tyres import Comparison, LoadComparison, binned_curve, compare_tyres, data_metrics, model_metrics
 
 __all__ = ["Comparison", "LoadComparison", "compare_tyres", "model_metrics", "data_metrics", "binned_curve"]
@@ -13,10 +16,6 @@ def workflow(a, b, data=None, *, convention: str = "iso", names=None, allow_unph
     ``a``, ``b``: tyres or tyre files (refused, unless ``allow_unphysical``, when not physical over their
     declared range); ``data``: an optional record (path or Dataset) both are scored against.
     """
-    from ..io.readers import read_data
-    from ..io.tir import read_tyre
-    from ..tyres.base import Tyre, require_physical
-
     tyres = []
     for t in (a, b):
         tyre = t if isinstance(t, Tyre) else read_tyre(t)

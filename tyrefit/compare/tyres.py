@@ -279,7 +279,6 @@ class Comparison:
                 n = np.array([lc.data["points"] for lc in self.loads], float)
                 r = np.array([lc.data["rmse_N"] for lc in self.loads], float)
                 out["rmse_N"] = [float(np.sqrt(np.sum(n * r[:, k] ** 2) / n.sum())) for k in (0, 1)]
-                from ..fitting.result import noise_floor_of
 
                 out["noise_floor_N"] = noise_floor_of(sub["slip_angle"].to_numpy(float), sub["fy"].to_numpy(float),
                                                       sub["run"].to_numpy(), sub["fz"].to_numpy(float))[0]

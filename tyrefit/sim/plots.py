@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .scenarios import PAPER_TABLE3
+
 __all__ = [
     "BASE_COLOR",
     "LOW_WEAR_COLOR",
@@ -118,8 +120,6 @@ def scenario_figure(result, j: int):
 def braking_figure(result):
     """Speed and deceleration against distance for every braking run, and stopping distances vs the paper."""
     from matplotlib.figure import Figure
-
-    from .scenarios import PAPER_TABLE3
 
     base, low = result.base, result.low_wear
     fig = Figure(figsize=(15, 4))

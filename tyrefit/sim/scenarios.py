@@ -38,8 +38,8 @@ from .driver import (BrakeDriver, ComfortLimits, DriverLine, PathDriver, ReplayD
 from .emission import DEFAULT_EMISSION, QuadraticEmission
 from .path import PathGeometry, curve_path, straight_path, uk_desirable_minimum_radius
 from .simulate import simulate
-from .traction import HPWIZARD, emission_ratio
-from .tyres import AxleTyre
+from .traction import HPWIZARD, emission_ratio, traction_from_data
+from .tyres import AxleTyre, default_tyres
 from .vehicle import DEFAULT_VEHICLE, SimResult, VehicleModel, VehicleParams
 from ..errors import TyrefitError
 from ..io.datasets import data_path
@@ -153,8 +153,6 @@ class SimSetup:
     @classmethod
     def default(cls, **kw) -> "SimSetup":
         """The bundled hard (front) and soft (rear) tyres and the default vehicle."""
-        from .tyres import default_tyres
-
         front, rear = default_tyres()
         return cls(front=front, rear=rear, **kw)
 
@@ -207,8 +205,6 @@ def _bundled_traction_b():
     There is no silent fallback: HPwizard's published 0.15 is used only when the
     caller asks for it (``traction_b="hpwizard"``), and is then reported as such.
     """
-    from .traction import traction_from_data
-
     try:
         fit = traction_from_data(data_path("sim", "braking_utqg.csv")).fit
     except (OSError, TyrefitError) as e:

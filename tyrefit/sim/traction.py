@@ -29,6 +29,7 @@ import numpy as np
 
 from ..errors import DataError, FitError
 from ..fitting.core import Parameters, solve
+from ..io.readers import read_data
 from ..nomenclature import G0
 
 __all__ = [
@@ -218,8 +219,6 @@ def traction_from_data(data, K: float = K_TYPICAL, f_r: float = F_R_TYPICAL) -> 
 
     source = ""
     if isinstance(data, (str, bytes)) or hasattr(data, "__fspath__"):
-        from ..io.readers import read_data
-
         source = str(data)
         data = read_data(data, kind="braking")
     df = getattr(data, "df", data)

@@ -38,6 +38,8 @@ import numpy as np
 
 from ..errors import DataError
 from ..nomenclature import G0
+from .envelope import OperatingPoints
+from .handling import _states, closed_form_understeer_gradient
 from .loads import wheel_loads
 
 __all__ = ["StepSteerResult", "BrakingTurnResult", "run_step_steer", "run_braking_turn", "Trace"]
@@ -215,8 +217,6 @@ class _Model:
 
 def _steady_state(spec, front, rear, ay, radius):
     """The ramp's steady state (speed, yaw rate, body slip, steer) at lateral acceleration ``ay`` on ``radius``."""
-    from .handling import _states
-
     st = _states(spec, front, rear, np.array([ay]), radius)
     if st["reason"][0] != "":
         raise DataError(f"vehicle {spec.name!r}: cannot corner steadily at {ay / G0:.3g} g on a {radius:.4g} m "
@@ -293,8 +293,6 @@ def run_step_steer(spec, front, rear, speed_kmh: float = 80.0, ay_g: float = 0.4
     response time and overshoot of yaw rate and lateral acceleration, and the steady-state
     gains; the linear bicycle model's yaw-rate gain v / (L + K v^2) as a check.
     """
-    from .handling import closed_form_understeer_gradient
-
     if not 5.0 <= speed_kmh <= 300.0:
         raise DataError(f"step steer: speed = {speed_kmh:g} km/h; accepted 5 to 300 km/h")
     if not 0.01 <= ay_g <= 3.0:
@@ -462,8 +460,6 @@ def run_braking_turn(spec, front, rear, radius: float = 100.0, ay_g: float = 0.5
 
 def points_from_trace(tr: Trace, role: str):
     """Operating points of the front or rear tyre's two wheels over every member's moving time."""
-    from .envelope import OperatingPoints
-
     w = slice(0, 2) if role == "front" else slice(2, 4)
     parts = []
     for j in range(tr.active.shape[1]):

@@ -29,6 +29,7 @@ from pathlib import Path
 
 from ..errors import ColumnError, DataError, FormatError, ValueRangeError, close_matches
 from ..nomenclature import G0
+from .vehicle import VehicleParams
 
 __all__ = ["AxleSpec", "VehicleSpec", "PRESETS", "AIR_DENSITY", "load_vehicle", "vehicle_from_dict",
            "preset_path"]
@@ -142,8 +143,6 @@ class VehicleSpec:
         axles, static axle loads and drag only (no downforce, rolling resistance
         or load transfer, as in the paper).
         """
-        from .vehicle import VehicleParams
-
         f, r = self.front, self.rear
         for key in ("wheel_radius", "wheel_inertia"):
             if getattr(f, key) != getattr(r, key):
