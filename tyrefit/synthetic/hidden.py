@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..effects import ModelInputs
+from ..effects import ModelInputs, get_effect
 from ..effects import lateral_force as extended_lateral_force
 
 __all__ = ["TRUTH_BASE", "EFFECT_SIZES", "RATED_LOAD", "NOISE_MODELS", "Case", "rig_grid", "make_case", "generate"]
@@ -94,8 +94,6 @@ class Case:
 
     @property
     def families(self) -> set[str]:
-        from ..effects import get_effect
-
         return {get_effect(t).family for t in self.truth}
 
 

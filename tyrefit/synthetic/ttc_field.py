@@ -114,6 +114,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..io.outputs import write_text
+from ..models import mf61
+from .ttc import format_ttc
+from .ttc_drivebrake import published_mf61
+
 __all__ = ["SEED", "SCALES", "TRUTH", "truth_params", "friction_factor", "truth", "make_record", "format_record",
            "make_pair", "write_pair", "fx_peak_slip"]
 
@@ -162,8 +167,6 @@ SPEED = 40 / 3.6
 
 def truth_params() -> dict[str, float]:
     """The MF 6.1 core of the truth tyre: the published set with :data:`TRUTH` applied."""
-    from .ttc_drivebrake import published_mf61
-
     p = published_mf61()
     p.update(TRUTH)
     return p
@@ -182,8 +185,6 @@ def truth(fz, slip_ratio=0.0, slip_angle=0.0, camber=0.0, pressure=None, speed=S
     ``temperature`` [degC] is the tread temperature (the grip optimum by default).  Returns ``fx``,
     ``fy`` [N], ``mz``, ``mx`` [N m].  No relaxation lag (steady state) and no rig effects.
     """
-    from ..models import mf61
-
     p = truth_params()
     lam = friction_factor(fz, temperature)
     q = dict(p, LMUX=lam, LMUY=lam)
@@ -355,8 +356,6 @@ def make_record(kind: str, seed: int = SEED, scale: str = "full") -> pd.DataFram
 
 def format_record(df: pd.DataFrame, kind: str, seed: int = SEED, scale: str = "full") -> str:
     """TTC ``.dat`` text (SAE signs, metric units) of a record from :func:`make_record`."""
-    from .ttc import format_ttc
-
     text = format_ttc(df, seed=seed)
     info = (f"SYNTHETIC FSAE TTC-style {kind} run of a 16x7.5-10 slick (not a measurement, not TTC data): generated "
             f"by tyrefit.synthetic.ttc_field (MF 6.1 core + thermal grip, load-curved friction, relaxation lag), "
@@ -371,8 +370,6 @@ def make_pair(seed: int = SEED, scale: str = "full") -> tuple[pd.DataFrame, pd.D
 
 def write_pair(out_dir, seed: int = SEED, scale: str = "full") -> tuple[Path, Path]:
     """Write ``cornering.dat`` and ``drivebrake.dat`` (TTC text, SAE signs) to ``out_dir``; their paths."""
-    from ..io.outputs import write_text
-
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     c, d = make_pair(seed, scale)

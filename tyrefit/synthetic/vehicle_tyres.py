@@ -70,6 +70,7 @@ import numpy as np
 import pandas as pd
 
 from ..io.outputs import write_text
+from ..sim.tyres import fit_vehicle_tyres
 from ..tyres.pac89 import Pac89Tyre
 
 __all__ = [
@@ -307,12 +308,5 @@ def generate(out_dir: Path, fit: bool = True) -> list[Path]:
     files.append(write_text(out / "truth.json", json.dumps(truth_dict(), indent=2) + "\n", force=True))
     files.append(write_text(out / "README.md", _README, force=True))
     if fit:
-        try:
-            from ..sim.tyres import fit_vehicle_tyres
-        except ImportError:  # pragma: no cover - the fitter is not installed
-            return files
-        try:
-            files += list(fit_vehicle_tyres(out, out, force=True).values())
-        except ImportError:
-            pass
+        files += list(fit_vehicle_tyres(out, out, force=True).values())
     return files

@@ -41,6 +41,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.optimize import least_squares
 
+from ...diagnose.data import prepare
 from .cases import Case
 from .truth import EFFECT_SIZES, TruthTyre
 
@@ -166,8 +167,6 @@ def truth_form_heldout(case: Case) -> dict:
 def _inputs(case: Case, like=None):
     """The diagnosis' prepared inputs and measured force of ``case``; reference values (the curved laws'
     reference load, the rated load) taken from ``like`` (inputs of the data the model was fitted to)."""
-    from ...diagnose.data import prepare
-
     sd = prepare(case.data, rated_load=case.rated_load)
     inp = sd.inputs
     if like is not None:

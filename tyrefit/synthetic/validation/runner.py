@@ -34,6 +34,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ...diagnose import diagnose, engine
+from ...diagnose.data import prepare
+from ...diagnose.fitter import ModelSpec, fit, fit_start
+from ...effects import EFFECTS as CATALOGUE
+from ...errors import FitError
 from .cases import EXTRA_NOISE_MODELS, LAYOUTS, NOISE_MODELS, SIGMA, applicable, make_case
 from .ceiling import model_scores, truth_form_heldout, truth_form_scores
 from .truth import EFFECT_FAMILY, EFFECTS
@@ -120,7 +125,6 @@ def mutated(name: str | None):
         with mutated(first), mutated(rest):
             yield
         return
-    from ...diagnose import engine
 
     target, attr = engine, None
     if name.startswith("noguard-"):
@@ -210,8 +214,6 @@ def plan_cases(layouts=None, noises=None, families=None, n_null=None, n_effect=N
 
 def run_case(layout: str, noise: str, effect: str | None, seed: int, **diagnose_kw) -> dict:
     """Generate, diagnose and score one case; return its row."""
-    from ...diagnose import diagnose
-
     case = make_case(layout, noise, effect, seed)
     t0 = time.perf_counter()
     try:
@@ -613,9 +615,6 @@ def base_fit(layouts=None) -> dict:
     follow it to well under the noise); an effect's value is the misfit the
     diagnosis has to find.
     """
-    from ...diagnose.data import prepare
-    from ...diagnose.fitter import ModelSpec, fit_start
-
     out = {}
     for lay in layouts or list(LAYOUTS):
         out[lay] = {}
@@ -637,11 +636,6 @@ def oracle(layout: str, effect: str | None, tyre=None) -> dict:
     property of the data, not a failure of the engine).  ``tyre`` overrides
     the truth tyre (to try other effect laws).
     """
-    from ...diagnose.data import prepare
-    from ...diagnose.fitter import ModelSpec, fit, fit_start
-    from ...effects import EFFECTS as CATALOGUE
-    from ...errors import FitError
-
     c = make_case(layout, "iid", effect, 0, sigma=0.0)
     if tyre is not None:
         d = c.data
