@@ -99,10 +99,12 @@ def test_effects_with_monkeypatched_resolver(lateral_csv, tmp_path, monkeypatch,
 
     fake.resolve_pac89 = resolve_pac89
     fake.EFFECTS = {}  # no catalogue entries: every requested effect is carried
-    monkeypatch.setitem(sys.modules, "tyrefit.effects", fake)
     import tyrefit
+    import tyrefit.workflows.fit
 
+    monkeypatch.setitem(sys.modules, "tyrefit.effects", fake)
     monkeypatch.setattr(tyrefit, "effects", fake, raising=False)
+    monkeypatch.setattr(tyrefit.workflows.fit, "resolve_pac89", resolve_pac89)  # imported there at module level
     out, rep = tmp_path / "e.tir", tmp_path / "rep"
     assert main(["fit", str(lateral_csv), "--effects", "camber", "--out", str(out), "--report", str(rep)]) == 0
     text = capsys.readouterr().out
@@ -119,10 +121,12 @@ def test_effects_lower_the_error(lateral_csv, monkeypatch):
     fake = types.ModuleType("tyrefit.effects")
     fake.resolve_pac89 = lambda ids: (["a0", "a2", "a3", "a4", "a7"] + (["a5", "a8", "a11"] if ids else []), [])
     fake.EFFECTS = {}
-    monkeypatch.setitem(sys.modules, "tyrefit.effects", fake)
     import tyrefit
+    import tyrefit.workflows.fit
 
+    monkeypatch.setitem(sys.modules, "tyrefit.effects", fake)
     monkeypatch.setattr(tyrefit, "effects", fake, raising=False)
+    monkeypatch.setattr(tyrefit.workflows.fit, "resolve_pac89", fake.resolve_pac89)  # imported there at module level
     args = types.SimpleNamespace(data=str(lateral_csv), convention="iso", cost="l2", effects="camber",
                                  patch=None, rig=None, vertical=None, static_part="peak", rated_load=None)
     result, extras = fit_file(args)

@@ -16,6 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..fitting.core import Parameter
+from .signatures import plot as _plot_signature
 
 __all__ = ["Param", "PhysicsCard", "DataSummary", "ModelInputs", "Effect"]
 
@@ -224,6 +225,4 @@ class Effect:
 
     def plot_signature(self, view, ax=None):
         """Draw this effect's signature view (see :func:`tyrefit.effects.signatures.plot`)."""
-        from .signatures import plot
-
-        return plot(self, view, ax=ax)
+        return _plot_signature(self, view, ax=ax)

@@ -19,6 +19,7 @@ import pandas as pd
 from ..errors import DataError, option
 from ..io.levels import group_levels
 from ..io.readers import read_data
+from .engine import _derive_runs
 from .mf_result import _noise_floor
 
 __all__ = ["MFData", "prepare_mf_data", "channel_signal", "condition_levels", "SIGNAL_RATIO", "FREE_ROLLING_FX"]
@@ -193,8 +194,6 @@ def prepare_mf_data(data, *, convention: str = "iso") -> MFData:
         if "run" in df:
             run = pd.to_numeric(df["run"], errors="coerce").fillna(-1).astype(int).to_numpy()
         else:
-            from .engine import _derive_runs
-
             run = _derive_runs(d.assign(run=0).drop(columns="run"))
         d["source"] = src
         ok = (np.isfinite(d["fz"].to_numpy()) & (d["fz"].to_numpy() > 0) & np.isfinite(d["slip_angle"].to_numpy())

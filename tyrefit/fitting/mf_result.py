@@ -39,6 +39,8 @@ import pandas as pd
 
 from .._version import __version__
 from ..models import mf61
+from . import mf_figures
+from .mf_figures import condition_cells, nominal_slice
 from .mf_stages import STAGES
 from .result import FLOOR_RATIO_WARN, noise_floor_of
 from .result_base import TyreFitResult
@@ -407,23 +409,17 @@ class FitResultMF(TyreFitResult):
         (:func:`tyrefit.fitting.mf_figures.plot_curves`; residual maps:
         :func:`~tyrefit.fitting.mf_figures.plot_residual_map`).
         """
-        from . import mf_figures
-
         return mf_figures.plot_curves(self, kind, channel, ax, **kw)
 
     def plot_cells(self, ax=None):
         """RMSE per condition cell in % of the channel's peak at that load: a heat map of condition x load,
         grouped by channel (:func:`tyrefit.fitting.mf_figures.plot_cells`); returns the Axes."""
-        from . import mf_figures
-
         return mf_figures.plot_cells(self, ax)
 
     def plot_friction_ellipse(self, ax=None, **kw):
         """Fx against Fy of the drive/brake sweeps per condition level: the model only over the measured slip
         ranges, the data's largest |F|/Fz instead of a Kamm circle
         (:func:`tyrefit.fitting.mf_figures.plot_friction_ellipse`); returns the Axes."""
-        from . import mf_figures
-
         return mf_figures.plot_friction_ellipse(self, ax, **kw)
 
     # ------------------------------------------------------------------ report
@@ -444,7 +440,6 @@ class FitResultMF(TyreFitResult):
         r.table([{"stage": n, "channel": f.channel.upper(), "points": f.n_points, "sweeps": f.n_sweeps,
                   "varied": ", ".join(f.varied), "evaluations": f.nfev, "seconds": f.seconds}
                  for n, f in self.stages.items()])
-        from . import mf_figures
 
         mf_figures.report_figures(self, r)  # every condition; the cell table after the figures, collapsed
         r.h2("Coefficients")
@@ -472,8 +467,6 @@ class FitResultMF(TyreFitResult):
 
 def _nominal_slice(d: pd.DataFrame, p) -> pd.DataFrame:
     """Sweeps at the pressure level nearest NOMPRES and the camber level nearest 0 (``mf_figures.nominal_slice``)."""
-    from .mf_figures import nominal_slice
-
     return nominal_slice(d, p)
 
 
@@ -481,6 +474,4 @@ def _cells(df: pd.DataFrame) -> pd.DataFrame:
     """RMSE per condition cell (kind, load, pressure, camber, speed, slip-angle level) and channel
     (:func:`tyrefit.fitting.mf_figures.condition_cells`: levels clustered, so a pressure that creeps with tread
     temperature stays one cell)."""
-    from .mf_figures import condition_cells
-
     return condition_cells(df)

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..models import mf61 as _mf61
+from .mf import MFTyre
 
 __all__ = ["Violation", "violations", "check_tyre", "envelope", "slip_grid", "ALIGN_DEG"]
 
@@ -208,8 +209,6 @@ def check_tyre(tyre) -> list[str]:
     models.  Other families (PAC89, Chrono JSON): the reader's check (C > 0, D > 0, E <= 1 over the load
     range) and the aligning rule through the tyre's own forces.
     """
-    from .mf import MFTyre
-
     problems = list(tyre.check())
     env = tyre.validity()
     if isinstance(tyre, MFTyre):

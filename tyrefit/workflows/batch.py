@@ -81,6 +81,7 @@ from ..io.report import Report
 from ..models import pac89
 from ..nomenclature import UnitError, dimension_of, parse_header, to_si
 from ..tyres.size import size_and_rated_load
+from .fit import fit
 
 __all__ = ["BatchResult", "batch_fit", "find_data_files", "fit_file", "fit_quality", "read_manifest", "SUMMARY_COLUMNS",
            "DATA_SUFFIXES"]
@@ -262,8 +263,6 @@ def fit_file(source: str, tir: str, *, name: str | None = None, cost: str = "l2"
     rec: dict[str, Any] = {"name": name or Path(source).stem, "status": "failed", "source": str(source),
                            "tir": str(tir), "error": ""}
     try:
-        from .fit import fit
-
         result = fit(source, model=model, cost=cost, convention=convention, size=size, rated_load=rated_load,
                      allow_mirrored=allow_mirrored)
         if model != "pac89":  # Magic Formula: the written file is checked against the tyre contract

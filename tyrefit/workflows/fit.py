@@ -73,7 +73,7 @@ from ..errors import DataError, close_matches, option
 from ..io.plausibility import check_mirrored
 from ..io.readers import check_fittable, read_data
 from ..tyres.size import complete_design, complete_mf_design, loaded_radius_law, size_and_rated_load
-from ..effects import EFFECTS
+from ..effects import EFFECTS, resolve_pac89
 from ..fitting import fit_pac89
 from ..fitting.mf import _known_names as _mf_names, fit_mf, prepare_mf_data
 from ..models.pac89 import ALL as _PAC89_NAMES
@@ -310,15 +310,12 @@ def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] 
     extras = {"static": sfi, "start": None, "effects": [], "notes": notes, "dataset": ds}
     effects = list(effects)
     if effects:
-        from ..effects import resolve_pac89
-        from ..models.pac89 import ALL
-
         vary0, _ = resolve_pac89([])
         vary1, enotes = resolve_pac89(effects)
         notes += list(enotes)
         # the effects choose lateral coefficients only: the longitudinal and aligning parts keep their full
         # fit (every coefficient the data identify), never silent zeros
-        other = [k for k in ALL if k[0] in "bc"]
+        other = [k for k in _PAC89_NAMES if k[0] in "bc"]
         vary0, vary1 = list(vary0) + other, list(vary1) + other
         extras["start"] = fit_pac89(data, cost=cost, vary=vary0, tyre_info=info, fixed=fixed, **kw)
         extras["effects"] = effects
