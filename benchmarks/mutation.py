@@ -74,8 +74,9 @@ TARGETS = {
                               "tests/test_inspect.py"],
     # issue 25's modules (the quick files that import each, fastest first: -x stops at the first failure;
     # tests/test_mutants_sampled_*.py kill the sampled mutants of --sample 216 --seed 15 that survived the rest)
-    "tyrefit/fitting/core.py": ["tests/test_mutants_sampled_fit.py", "tests/test_fitting_core.py",
-                                "tests/test_diagnose_speed.py", "tests/test_mutants_issue25.py", "tests/test_fitting.py"],
+    "tyrefit/fitting/core.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mutants_fresh_core_stats.py",
+                                "tests/test_fitting_core.py", "tests/test_diagnose_speed.py",
+                                "tests/test_mutants_issue25.py", "tests/test_fitting.py"],
     "tyrefit/fitting/mf.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mutants_issue25.py",
                               "tests/test_fit_params.py", "tests/test_fit_mf_speed.py", "tests/test_fit_mf.py"],
     "tyrefit/sim/allocator.py": ["tests/test_mutants_sampled_rig.py", "tests/test_sim_allocator.py",
@@ -90,8 +91,9 @@ TARGETS = {
     "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_diagnose_speed.py",
                                    "tests/test_mutants_issue25.py", "tests/test_diagnose_camber_evidence.py",
                                    "tests/test_diagnose.py"],
-    "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_diagnose_speed.py",
-                                  "tests/test_mutants_issue25.py", "tests/test_diagnose.py"],
+    "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_fresh_core_stats.py",
+                                  "tests/test_diagnose_speed.py", "tests/test_mutants_issue25.py",
+                                  "tests/test_diagnose.py", "tests/test_diagnose_noise_verdict.py"],
     "tyrefit/io/ttc.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_ttc_lines.py", "tests/test_io_ttc.py",
                           "tests/test_ttc_field.py"],
     "tyrefit/io/outputs.py": ["tests/test_mutants_sampled_io.py", "tests/test_outputs.py",
@@ -270,6 +272,17 @@ KNOWN_SURVIVORS = [
      "for J only at the point it has just evaluated (trf.py: fun then jac at x0; jac after accepting x_new)"),
     ("tyrefit/fitting/mf.py", "np.geomspace(0.6, 20.0, 60)", "harmless", "the lower end of PKY2's start grid"),
     ("tyrefit/fitting/mf.py", "math.pi - phase + 0 / fz", "equivalent", "0 / fz = 0 * fz = 0 on the positive loads"),
+    # the same seed on the code of 8140e13 (diagnose's speed work: lm_normal_batch, sequential screening)
+    ("tyrefit/fitting/core.py", "if rel < tol or dx <= tol:", "tie", "a step of exactly tol x the parameter scale"),
+    ("tyrefit/fitting/core.py", "np.maximum(old_cost, 2e-300)", "harmless",
+     "the guard against a zero cost in the relative fall: differs only for a cost below 2e-300"),
+    ("tyrefit/diagnose/stats.py", "if Tb.shape[1] <= n_boot and decided(T, Tb, alpha):", "equivalent",
+     "Tb reaches n_boot draws only after the last block, where the loop ends whether it breaks or not"),
+    ("tyrefit/diagnose/stats.py", "np.floor(alpha * (B + 1))) - 2, 1)]", "harmless",
+     "the critical value's order statistic moves only where alpha (draws + 1) < 3 (never at 499+ draws and "
+     "alpha >= 0.01), and only the detectable size it reports"),
+    ("tyrefit/diagnose/stats.py", "np.count_nonzero(min_boot <= p_obs.min())", "tie",
+     "a draw's min-p within 1e-9 (relative) of the observed one"),
 ]
 
 _OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
