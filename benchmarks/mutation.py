@@ -88,7 +88,8 @@ TARGETS = {
     "tyrefit/models/mf61.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mf61_model.py",
                                "tests/test_mf_parts.py", "tests/test_mf52_61keys.py", "tests/test_mf_tir_write.py",
                                "tests/test_mutants_issue25.py", "tests/test_mf_use_mode.py"],
-    "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_diagnose_speed.py",
+    "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_engine_fresh.py",
+                                   "tests/test_diagnose_speed.py",
                                    "tests/test_mutants_issue25.py", "tests/test_diagnose_camber_evidence.py",
                                    "tests/test_diagnose.py"],
     "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_fresh_core_stats.py",
@@ -283,6 +284,11 @@ KNOWN_SURVIVORS = [
      "alpha >= 0.01), and only the detectable size it reports"),
     ("tyrefit/diagnose/stats.py", "np.count_nonzero(min_boot <= p_obs.min())", "tie",
      "a draw's min-p within 1e-9 (relative) of the observed one"),
+    ("tyrefit/diagnose/engine.py", "evaluated[i][1].rmse_heldout <= evaluated[best[f]][1].rmse_heldout", "tie",
+     "two variants of one family with bitwise-equal held-out RMSE"),
+    ("tyrefit/diagnose/engine.py", "(lv[d.level_index[f]] - np.mean(lv)) * np.ptp(lv)", "equivalent",
+     "scales a group's directions by ptp(lv)^2 > 0: the score statistic, its draws and the stopping point are "
+     "invariant to a column's scale (the end check's JSON byte-identical on 9 records, helper-20)"),
 ]
 
 _OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}

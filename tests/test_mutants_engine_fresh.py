@@ -150,3 +150,28 @@ def test_the_end_check_names_the_cell_far_above_the_overall_rmse(rig):
     fz = np.median(d.inputs.fz[bad])
     assert cells[0].startswith(f"cells Fz {fz / 1e3:.1f} kN")
     assert f"(RMSE {rmse_bad:.0f} N, {rmse_bad / overall:.1f} x the overall {overall:.0f} N)" in cells[0]
+
+
+def test_the_end_check_names_a_slip_range_of_five_points():
+    """engine.py [1073] ``_unexplained`` (a slip bin needs ``m.sum() >= 5`` points, not 6), --sample 216
+    --seed 15 site 157.
+
+    The end check names the slip ranges (8 equal bins; "a bin needs at least 5 points", its docstring)
+    whose mean residual lies beyond 3 standard errors.  Five sweeps reach -12 deg with one point each and
+    otherwise run from -8.5 to 12 deg: the -12 to -9 deg bin holds exactly 5 points, where the model is
+    63 N off; it must be named.
+    """
+    import pandas as pd
+
+    slip = np.radians(np.r_[-12.0, np.linspace(-8.5, 12.0, 40)])
+    loads = (2000.0, 3500.0, 5000.0, 6500.0, 8000.0)
+    df = pd.DataFrame({"run": np.repeat(np.arange(5), slip.size), "slip_angle": np.tile(slip, 5),
+                       "fz": np.repeat(loads, slip.size), "camber": 0.0})
+    df["fy"] = -df["fz"] * np.sin(1.4 * np.arctan(8.0 * df["slip_angle"]))
+    d = prepare(df)
+    eng = _Engine(d, Settings(), 0)
+    rng = np.random.default_rng(4)
+    r = 5.0 * rng.standard_normal(d.n) + np.where(d.inputs.slip_angle < np.radians(-10.0), 63.0, 0.0)
+    floor = 5.0
+    un = _unexplained(eng, _step(r, 1.1 * floor, np.ones((d.n, 1))), floor, Settings())
+    assert any(w.startswith("slip ranges -12.0 to -9.0 deg") for w in un["where"]), un["where"]

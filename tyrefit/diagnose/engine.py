@@ -606,7 +606,10 @@ def _diagnose(ds, start=(), rated_load: float | None = None, seed: int = 0, sett
         raise DataError(f"{option('start')} names two variants of one family: {', '.join(start_ids)}")
     eng = _Engine(data, s, seed)
     floor, floor_per_sweep = noise_floor(data.inputs.slip_angle, data.fy, data.sweep, fz=data.inputs.fz)
-    if not np.isfinite(floor) or floor <= 0:
+    if floor == 0:
+        raise DataError("Fy has no noise at all (every sweep is exactly smooth): a dead channel or simulated data? "
+                        "diagnose weighs the model's error against the noise floor")
+    if not np.isfinite(floor) or floor < 0:
         raise DataError("sweeps too short to estimate the noise floor (need >= 10 points per sweep)")
     margin_abs = s.margin * floor
 
@@ -1036,6 +1039,11 @@ def _unexplained(eng: _Engine, step: Step, floor: float, s: Settings, cands: dic
     (:func:`~tyrefit.diagnose.stats.crossval_surface`); otherwise the excess
     is noise correlated along the sweeps, which no effect removes.  Either
     way the summary says how far above the floor the model ends.
+
+    Where: the condition cells whose RMSE exceeds 1.5 x the overall RMSE, and
+    the slip ranges (8 equal bins of the slip angle; a bin needs at least 5
+    points) whose mean residual over the sweeps' means lies beyond 3 of its
+    standard errors.
     """
     d = eng.data
     x = d.inputs
