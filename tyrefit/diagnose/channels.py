@@ -64,7 +64,7 @@ from ..fitting.core import Parameters, solve
 from ..fitting.noise import LagOneNoise, noise_floor
 from ..models import pac89
 from .data import SweepData, prepare, segments, slip_ratio_segments
-from .engine import CAMBER_ALPHA, _camber_evidence
+from .contrast import CAMBER_ALPHA, _camber_evidence
 
 __all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
            "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS"]
@@ -637,7 +637,7 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
                             _pac89_export(cd, cur, fixed), seconds=time.perf_counter() - t0)
 
 
-#: families whose name needs the contrast between their condition's levels (:func:`.engine._camber_evidence`)
+#: families whose name needs the contrast between their condition's levels (:func:`.contrast.camber_evidence`)
 _CONTRAST_FACTOR = {"mz_camber": "camber", "fx_camber": "camber", "mz_pressure": "pressure",
                     "fx_pressure": "pressure"}
 
