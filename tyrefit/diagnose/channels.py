@@ -30,9 +30,14 @@ catalogue (:mod:`tyrefit.effects.channels`):
      sweeps (:class:`~tyrefit.fitting.noise.LagOneNoise`: its 90 % upper bound, read from
      the richest model's residuals) and the error degrees of freedom shrunk to the effective sample size
      n (1 - rho) / (1 + rho), or a paired t test over the held-out sweeps (independent
-     whatever the noise does along a sweep), gives p < ``alpha / (2 m)`` for the m
-     candidates of the round: correlated rig noise along a sweep does not pass for an
-     effect, nor does the best of many candidates pass by chance;
+     whatever the noise does along a sweep), or the held-out gain against its null under
+     the AR(1) + sweep-offset noise model estimated (and bias-corrected) from the richest
+     model's residuals (:class:`~tyrefit.diagnose.stats.HeldoutNull`, the lateral
+     diagnosis' second gate) gives p < ``alpha / (3 m)`` for the m candidates of the
+     round: correlated rig noise along a sweep does not pass for an effect, nor does the
+     best of many candidates pass by chance;
+   * camber and pressure are named only where the residual differs between their levels
+     consistently from load to load (:func:`~tyrefit.diagnose.contrast.camber_evidence`);
    * a refinement (:attr:`~tyrefit.effects.base.Effect.refinement`) only refines a
      family that has already been accepted.
 
@@ -65,6 +70,7 @@ from ..fitting.noise import LagOneNoise, noise_floor
 from ..models import pac89
 from .data import SweepData, prepare, segments, slip_ratio_segments
 from .contrast import CAMBER_ALPHA, _camber_evidence
+from .stats import HeldoutNull, NoiseModel, SweepLayout, cluster_sums, estimate_noise, simulate_noise
 
 __all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
            "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS"]
@@ -80,7 +86,7 @@ UNITS = {"fy": "N", "mz": "N*m", "fx": "N"}
 class ChannelSettings:
     """Settings of a channel diagnosis.
 
-    alpha : level of a round of the selection: each candidate's two tests run at alpha / (2 m), m the
+    alpha : level of a round of the selection: each candidate's three tests run at alpha / (3 m), m the
         candidates of the round (Bonferroni).
     margin : practical margin, as a fraction of the noise floor, by which a candidate must lower the held-out RMSE.
     min_sweeps_improved : share of held-out sweeps whose error a candidate must lower.
@@ -88,6 +94,7 @@ class ChannelSettings:
     rho_upper : confidence of the upper bound on the noise's lag-one correlation the F test is corrected with.
     folds : sweep groups held out in turn with more sweeps.
     max_rounds : most effects added.
+    n_null : draws of the held-out gain's null under the estimated noise model.
     """
 
     alpha: float = 0.05
@@ -97,6 +104,7 @@ class ChannelSettings:
     folds: int = 8
     max_rounds: int = 8
     rho_upper: float = 0.9
+    n_null: int = 499
 
 
 @dataclass
@@ -370,6 +378,47 @@ class _Model:
         return predict(self.cd.channel, values, self.effects, x) - y
 
 
+def _jacobian(cd: ChannelData, effects: list[Effect], fixed: dict, values: dict, names: list[str]) -> np.ndarray:
+    """d channel / d parameter (N, len(names)) at ``values`` by forward differences (steps 1e-6 of each scale)."""
+    model = _Model(cd, effects, fixed)
+    v0 = {k: float(values.get(k, model.defs[k].neutral)) for k in model.names}
+    v0.update(model.fixed)
+    f0 = predict(cd.channel, v0, model.effects, cd.inputs)
+    J = np.empty((len(f0), len(names)))
+    for j, k in enumerate(names):
+        d = model.defs[k]
+        h = 1e-6 * max(abs(v0[k]), d.scale)
+        if v0[k] + h > d.bounds[1]:
+            h = -h
+        J[:, j] = (predict(cd.channel, {**v0, k: v0[k] + h}, model.effects, cd.inputs) - f0) / h
+    return J
+
+
+def _noise_model(cd: ChannelData, resid: np.ndarray, J: np.ndarray, rng: np.random.Generator):
+    """AR(1) + sweep-offset noise of the channel, estimated from ``resid`` and bias-corrected.
+
+    As in the lateral screening (:func:`tyrefit.diagnose.stats.screen_candidates`): the method-of-moments
+    estimate from the residuals of a model with directions ``J`` (:func:`~tyrefit.diagnose.stats.estimate_noise`,
+    degrees of freedom of those directions within and between sweeps), moved by the bias that 199 draws from
+    it show when re-estimated the same way (Efron & Tibshirani 1993, Sec. 10.3).
+    """
+    layout = SweepLayout(cd.sweep, cd.n_sweeps)
+    U, sv, _ = np.linalg.svd(J / np.maximum(np.linalg.norm(J, axis=0), 1e-300), full_matrices=False)
+    Q = U[:, sv > 1e-8 * sv[0]]
+    dof_b = float(np.sum((cluster_sums(Q, layout.sweep, layout.G) / np.sqrt(layout.n)[:, None]) ** 2))
+    dof_w = Q.shape[1] - dof_b
+
+    def proj(x):
+        return x - (x @ Q) @ Q.T
+
+    obs = estimate_noise(proj(resid), layout, dof_w, dof_b)
+    pilot = estimate_noise(proj(simulate_noise(obs, layout, 199, rng)), layout, dof_w, dof_b)
+    model = NoiseModel(sd=np.asarray(obs.sd) ** 2 / np.maximum(np.mean(pilot.sd, axis=0), 1e-300),
+                       rho=np.clip(2.0 * np.asarray(obs.rho) - np.mean(pilot.rho), -0.5, 0.97),
+                       tau=np.maximum(0.0, 2.0 * np.asarray(obs.tau) - np.mean(pilot.tau)))
+    return layout, model
+
+
 def _folds(cd: ChannelData, s: ChannelSettings, seed: int) -> list[np.ndarray]:
     """Sweep groups held out in turn: each sweep up to ``loso_max_sweeps``, else ``folds`` shuffled groups."""
     G = cd.n_sweeps
@@ -573,7 +622,20 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
             m_rich = _Model(cd, rich, fixed)
             rho = rho_of(m_rich.residual(m_rich.fit(np.arange(len(cd.y)), cur.values)))
         except Exception:  # noqa: BLE001 - the richest model may not fit; the start model's residuals then
-            rho = rho_of(cur.resid)
+            m_rich, rho = None, rho_of(cur.resid)
+        # the same residuals give the noise model the held-out gain's null is drawn from
+        rng = np.random.default_rng(seed)
+        point_fold = np.empty(len(cd.y), dtype=int)
+        for k, held in enumerate(folds):
+            point_fold[np.isin(cd.sweep, held)] = k
+        try:
+            rich_vals = m_rich.fit(np.arange(len(cd.y)), cur.values) if m_rich is not None else cur.values
+            J_rich = _jacobian(cd, rich if m_rich is not None else [], fixed, rich_vals,
+                               m_rich.names if m_rich is not None else _Model(cd, [], fixed).names)
+            r_rich = m_rich.residual(rich_vals) if m_rich is not None else cur.resid
+            layout, noise = _noise_model(cd, r_rich, J_rich, rng)
+        except Exception:  # noqa: BLE001 - without a noise model the F test and the sweep test decide
+            layout = noise = None
         for rnd in range(1, s.max_rounds + 1):
             have = set(cur.effects)
             fams = {catalogue[e].family for e in have}
@@ -595,9 +657,24 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
                     evidence[eid] = {"status": "fit failed", "reason": str(exc)[:200]}
                     continue
                 round_steps[eid] = st
-            level = s.alpha / (2.0 * max(len(round_steps), 1))
+            level = s.alpha / (3.0 * max(len(round_steps), 1))
+            null = None
+            if noise is not None and round_steps:
+                cur_names = _Model(cd, [catalogue[k] for k in cur.effects], fixed).names
+                null = HeldoutNull(_jacobian(cd, [catalogue[k] for k in cur.effects], fixed, cur.values,
+                                             cur_names), noise, layout, point_fold, rng, s.n_null)
             for eid, st in round_steps.items():
-                ev = _evidence(cur, st, cd, floor, rho, s, level)
+                p_n = float("nan")
+                if null is not None:
+                    effs = [catalogue[k] for k in st.effects]
+                    new_names = [k for k in _Model(cd, effs, fixed).names if k not in cur_names]
+                    if new_names:
+                        J_new = _jacobian(cd, effs, fixed, cur.values, new_names)
+                        m = cd.interior if cd.interior.any() else np.isfinite(cur.resid_heldout)
+                        gain = float(np.nansum(cur.resid_heldout[m] ** 2) - np.nansum(st.resid_heldout[m] ** 2))
+                        draws = null.gain(J_new, m)
+                        p_n = float((1.0 + np.count_nonzero(draws >= gain)) / (len(draws) + 1.0))
+                ev = _evidence(cur, st, cd, floor, rho, s, level, p_noise=p_n)
                 factor = _CONTRAST_FACTOR.get(catalogue[eid].family)
                 if ev["status"] == "passed" and factor:
                     # as on Fy: camber and pressure are named only where the residual differs between their
@@ -665,12 +742,14 @@ def sweep_p(d: np.ndarray) -> float:
 
 
 def _evidence(cur: ChannelStep, st: ChannelStep, cd: ChannelData, floor: float, rho: float,
-              s: ChannelSettings, level: float) -> dict:
+              s: ChannelSettings, level: float, p_noise: float = float("nan")) -> dict:
     """Whether ``st`` (the current model plus one effect) passes the acceptance rules of the module docstring.
 
-    Two tests, each at ``level`` (alpha / (2 m) for m candidates in the round: either passing keeps the
+    Three tests, each at ``level`` (alpha / (3 m) for m candidates in the round: any one passing keeps the
     round's family-wise level at alpha): the nested F test corrected for the noise's correlation along
-    the sweeps, and the paired test over held-out sweeps.
+    the sweeps, the paired test over held-out sweeps, and ``p_noise``, the held-out gain against its null
+    under the noise model estimated from the residuals (AR(1) along the sweeps plus sweep offsets,
+    :class:`~tyrefit.diagnose.stats.HeldoutNull`, as in the lateral diagnosis; NaN when there is none).
     """
     delta = cur.rmse_heldout - st.rmse_heldout
     need = max(s.margin * floor, 0.01 * cur.rmse_heldout)
@@ -684,18 +763,18 @@ def _evidence(cur: ChannelStep, st: ChannelStep, cd: ChannelData, floor: float, 
     q = max(st.n_params - cur.n_params, 1)
     p_f = nested_p(cur.resid, st.resid, q, st.n_params, rho)
     p_s = sweep_p(a[held] - b[held])
-    p = min(p_f, p_s)
+    p = min(p_f, p_s, p_noise) if np.isfinite(p_noise) else min(p_f, p_s)
     why = []
     if not delta >= need:
         why.append(f"held-out gain {delta:.3g} below the margin {need:.3g} {cd.unit}")
     if not share >= s.min_sweeps_improved:
         why.append(f"better on {100 * share:.0f} % of the held-out sweeps (needs {100 * s.min_sweeps_improved:.0f} %)")
     if not p < level:
-        why.append(f"neither the F test (p = {p_f:.3g}, noise correlation {rho:.2f}) nor the held-out sweeps "
-                   f"(p = {p_s:.3g}) below {level:.3g}")
+        why.append(f"neither the F test (p = {p_f:.3g}, noise correlation {rho:.2f}), the held-out sweeps "
+                   f"(p = {p_s:.3g}) nor the noise model's held-out null (p = {p_noise:.3g}) below {level:.3g}")
     return {"status": "passed" if not why else "rejected", "delta_heldout": float(delta),
             "rmse_heldout": float(st.rmse_heldout), "sweeps_improved": share, "p_value": p,
-            "p_f": p_f, "p_sweeps": p_s, "reason": "; ".join(why)}
+            "p_f": p_f, "p_sweeps": p_s, "p_noise": p_noise, "reason": "; ".join(why)}
 
 
 def _clean(ev: dict) -> dict:
