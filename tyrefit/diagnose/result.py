@@ -11,9 +11,12 @@ import numpy as np
 import pandas as pd
 
 from ..effects import EFFECTS, get_effect, resolve_pac89
+from ..io.outputs import write_text
 from .advice import advice_lines, needs_model
 from .data import SweepData
+from .report import write_report
 from .steps import Candidate, Settings, Step
+from .views import plot_even_odd, plot_residual_maps, plot_waterfall, signature_view
 
 __all__ = ["Diagnosis"]
 
@@ -160,15 +163,11 @@ class Diagnosis:
         """The diagnosis as JSON text; also written atomically to ``path`` when given."""
         text = json.dumps(self.to_dict(), indent=2) + "\n"
         if path is not None:
-            from ..io.outputs import write_text
-
             write_text(path, text, force=force)
         return text
 
     def report(self, directory: str | os.PathLike, force: bool = False) -> Path:
         """Write the HTML report ``directory/index.html`` (plus CSV tables); return its path."""
-        from .report import write_report
-
         return write_report(self, directory, force=force)
 
     def summary(self) -> str:
@@ -196,26 +195,18 @@ class Diagnosis:
     # -- views (see tyrefit.diagnose.views) -------------------------------------------
     def plot_waterfall(self, ax=None):
         """RMSE and held-out RMSE [N] per step against the noise floor; returns the Axes."""
-        from .views import plot_waterfall
-
         return plot_waterfall(self, ax=ax)
 
     def plot_residual_maps(self, fig=None):
         """Residual maps over slip and load, faceted by camber and pressure, start vs final; returns the Figure."""
-        from .views import plot_residual_maps
-
         return plot_residual_maps(self, fig=fig)
 
     def plot_even_odd(self, ax=None):
         """Even and odd residual parts per sweep, start vs final; returns the Axes."""
-        from .views import plot_even_odd
-
         return plot_even_odd(self, ax=ax)
 
     def plot_signature(self, effect_id: str, ax=None):
         """Signature view of an accepted effect (data, model without and with it); returns the Axes."""
-        from .views import signature_view
-
         if effect_id not in self.accepted:
             raise KeyError(f"{effect_id!r} was not accepted; accepted: {', '.join(self.accepted) or 'none'}")
         return get_effect(effect_id).plot_signature(signature_view(self, effect_id), ax=ax)
