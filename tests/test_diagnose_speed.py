@@ -173,3 +173,15 @@ def test_noise_screening_uses_all_its_draws_only_where_a_decision_is_close(monke
     full = S.screen_candidates(J_model, cands, r, lay, np.random.default_rng(1), n_boot=1999, alpha=0.025,
                                method="noise")
     assert full.draws == 1999 and np.all(full.p_adjusted > 0.025)
+
+
+def test_large_records_refit_their_folds_one_by_one_with_the_same_result(six, monkeypatch):
+    import tyrefit.diagnose.fitter as F
+
+    spec = ModelSpec(("load_friction",))
+    full = fit(spec, six, x0=spec.start(fit_start(ModelSpec(()), six).values))
+    tests = [six.sweep == g for g in range(6)]
+    Xb, Rb = fit_folds(spec, six, tests, full.theta, tol=1e-7)
+    monkeypatch.setattr(F, "BATCH_MAX_POINTS", 100)
+    Xl, Rl = F.fit_folds(spec, six, tests, full.theta, tol=1e-7)
+    assert np.allclose(Xb, Xl, rtol=1e-8) and np.max(np.abs(Rb - Rl)) < 1e-5
