@@ -5,7 +5,9 @@ does not carry; 3 pressures x 3 cambers x 6 loads of cornering, drive/brake at 0
 slip ratios stop short of the Fx peak at the heavy loads, a noisy drive/brake Mz, the two records'
 loaded-radius channels 2 cm apart).  Fitted once through the command line; then the written tyre
 must load in eval, compare and sim without --allow-unphysical, keep the contract over its declared
-envelope, carry the cornering record's radius, and judge each record against its own noise.
+envelope, carry the cornering record's radius, and judge each record against its own noise.  The fit
+result the command wrote is kept (:func:`_cli_fit`) for the tests of its statistics, instead of fitting
+the same records again through the library; the FSAE ramp at the belt's grip is run once for two tests.
 """
 
 from __future__ import annotations
@@ -22,13 +24,45 @@ from tyrefit.synthetic import ttc_field
 from tyrefit.tyres.contract import check_tyre
 
 
+def _cli_fit(argv):
+    """``tyrefit fit argv`` (exit 0 asserted); returns the fit result the command wrote to its .tir."""
+    from tyrefit.fitting.mf_result import FitResultMF
+
+    written = []
+    original = FitResultMF.write_tir
+
+    def keep(self, path, **kw):
+        written.append(self)
+        return original(self, path, **kw)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(FitResultMF, "write_tir", keep)
+        assert main(["fit", *argv]) == 0
+    assert len(written) == 1
+    return written[0]
+
+
 @pytest.fixture(scope="module")
-def fitted(tmp_path_factory):
+def fitted_result(tmp_path_factory):
     d = tmp_path_factory.mktemp("ttc_pair")
     corner, drive = ttc_field.write_pair(d, scale="small")
     tir = d / "mf61.tir"
-    assert main(["fit", str(corner), str(drive), "--convention", "sae", "--model", "mf61", "--out", str(tir)]) == 0
-    return d, corner, drive, tir
+    r = _cli_fit([str(corner), str(drive), "--convention", "sae", "--model", "mf61", "--out", str(tir)])
+    return (d, corner, drive, tir), r
+
+
+@pytest.fixture(scope="module")
+def fitted(fitted_result):
+    return fitted_result[0]
+
+
+@pytest.fixture(scope="module")
+def fsae_ramp(fitted, tmp_path_factory):
+    """``sim ramp`` of the fitted tyre on the FSAE preset at the default road friction: (exit code, JSON path)."""
+    _, _, _, tir = fitted
+    js = tmp_path_factory.mktemp("fsae_ramp") / "ramp.json"
+    code = main(["sim", "ramp", "--front", str(tir), "--rear", str(tir), "--vehicle", "fsae", "--json", str(js)])
+    return code, js
 
 
 def test_the_written_tyre_keeps_the_contract_over_its_declared_range(fitted):
@@ -58,13 +92,17 @@ def test_eval_compare_and_sim_load_it_without_allow_unphysical(fitted, tmp_path,
     assert len(err) == 1 and "outside its declared load range" in err[0]
 
 
-def test_sim_runs_the_fsae_tyre_on_the_fsae_preset(fitted, tmp_path):
+def test_sim_runs_the_fsae_tyre_on_the_fsae_preset(fitted, fsae_ramp, tmp_path):
     # the FSAE preset (280 kg, downforce) puts the tyre's own loads on it: braking and the constant-radius ramp run
     _, _, _, tir = fitted
     for scenario in ("braking", "ramp"):
-        js = tmp_path / f"{scenario}.json"
-        assert main(["sim", scenario, "--front", str(tir), "--rear", str(tir), "--vehicle", "fsae",
-                     "--json", str(js)]) == 0
+        if scenario == "ramp":  # the same command as braking's, run once for this test and the next (fsae_ramp)
+            code, js = fsae_ramp
+            assert code == 0
+        else:
+            js = tmp_path / f"{scenario}.json"
+            assert main(["sim", scenario, "--front", str(tir), "--rear", str(tir), "--vehicle", "fsae",
+                         "--json", str(js)]) == 0
         out = json.loads(js.read_text())
         assert out["vehicle"]["mass"] == pytest.approx(280.0, rel=0.05)
         assert "outside_envelope" in out["tyres"]["front"]
@@ -72,15 +110,20 @@ def test_sim_runs_the_fsae_tyre_on_the_fsae_preset(fitted, tmp_path):
     # the fitted loads start at 172 N: the inner wheels unload below them before the limit, and the ramp says where
     assert 1.0 < out["envelope_limit_g"] < out["lateral_limit_g"]
     rows = [r for r in out["ramp"] if r["ay_g"] <= out["envelope_limit_g"]]
-    lo = json.loads((tmp_path / "ramp.json").read_text())["tyres"]["front"]["ranges"]["fz"][0]
+    lo = json.loads(fsae_ramp[1].read_text())["tyres"]["front"]["ranges"]["fz"][0]
     assert rows and all(min(r[f"fz_{w}_N"] for w in ("fl", "fr", "rl", "rr")) >= lo for r in rows)
 
 
-def test_fsae_ramp_on_a_track_keeps_every_wheel_inside_the_fitted_loads(fitted, tmp_path):
+def test_fsae_ramp_on_a_track_keeps_every_wheel_inside_the_fitted_loads(fitted, fsae_ramp, tmp_path):
     """Belt-rig grip scaled to a track (road friction 0.7): the whole ramp, to its limit, inside the envelope."""
     _, _, _, tir = fitted
     out = {}
-    for rf in (1.0, 0.7):
+    # road friction 1 is the default: the belt's grip is the fsae_ramp run (no --road-friction), and says so
+    code, js = fsae_ramp
+    assert code == 0
+    out[1.0] = json.loads(js.read_text())
+    assert out[1.0]["road_friction"] == 1.0
+    for rf in (0.7,):
         js = tmp_path / f"ramp{rf}.json"
         assert main(["sim", "ramp", "--front", str(tir), "--rear", str(tir), "--vehicle", "fsae",
                      "--road-friction", f"{rf:g}", "--json", str(js)]) == 0
@@ -121,12 +164,10 @@ def test_radius_from_the_free_rolling_record_and_the_disagreement_said(fitted):
     assert "disagree" in text and "cornering.dat" in text
 
 
-def test_each_record_is_judged_against_its_own_noise(fitted):
-    from tyrefit.fitting.mf import fit_mf
-    from tyrefit.io.readers import read_data
-
-    _, corner, drive, _ = fitted
-    r = fit_mf([read_data(corner, convention="sae"), read_data(drive, convention="sae")])
+def test_each_record_is_judged_against_its_own_noise(fitted_result):
+    # the fit of both records that the command wrote (the fixture's tyrefit fit)
+    (_, corner, drive, _), r = fitted_result
+    assert [str(ds.source) for ds in r.datasets] == [str(corner), str(drive)]
     by = r.stats["mz"]["by_record"]
     # the drive/brake rig's Mz is ~10 x noisier than the cornering record's: one pooled floor would hide a
     # cornering misfit of several N*m
@@ -141,11 +182,7 @@ def test_a_drive_brake_record_alone_fits_fx_and_says_why_not_fy(fitted, tmp_path
     # give: fitted on a neutral Fy0 they were nonsense (Fy 725 N RMSE, R2 0.46) reported as fitted
     _, _, drive, _ = fitted
     out = tmp_path / "db.tir"
-    assert main(["fit", str(drive), "--convention", "sae", "--model", "mf61", "--out", str(out)]) == 0
-    from tyrefit.fitting.mf import fit_mf
-    from tyrefit.io.readers import read_data
-
-    r = fit_mf([read_data(drive, convention="sae")])
+    r = _cli_fit([str(drive), "--convention", "sae", "--model", "mf61", "--out", str(out)])  # the fit it wrote
     assert r.stats["fx"]["fitted"] and not r.stats["fy"]["fitted"] and "Fy" not in r.stages
     assert any(n.startswith("Fy not fitted: it is evaluated on the Fy0 stage") for n in r.notes)
     tyre = read_tyre(out)

@@ -4,27 +4,42 @@ The default tier runs the fast subset (cases marked ``fast``: the issue's
 data-loss and hang cases among them); the slow tier runs the whole corpus
 (``pytest -m slow tests/test_hostile.py``; or ``python -m tests.hostile`` for
 the table).  Each case runs the installed ``tyrefit`` as a subprocess with a
-timeout and hashes every file that existed before the run.
+timeout and hashes every file that existed before the run.  The fast subset's
+cases run two at a time (each in its own folder, process and timeout; the
+commands spend much of their time starting Python), and each case's verdict
+is still its own test.
 """
 
 from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
 from hostile import all_cases, run_case
 
 CASES = all_cases()
+FAST = [c for c in CASES if c.fast]
 
 
-def _judge(case):
-    o = run_case(case)
+def _judge(case, o=None):
+    o = run_case(case) if o is None else o
     assert o.verdict == "pass", (f"{case.name}: {o.verdict} ({o.why}); exit {o.code}, {o.seconds:.1f} s; "
                                  f"actual: {o.actual}; stderr: {o.stderr[-600:]}")
 
 
-@pytest.mark.parametrize("case", [c for c in CASES if c.fast], ids=lambda c: c.name)
-def test_fast_subset(case):
-    _judge(case)
+@pytest.fixture(scope="module")
+def fast_outcomes(request):
+    """The fast cases this session selected, started two at a time: {name: future of run_case's Outcome}."""
+    wanted = {item.callspec.params["case"].name for item in request.session.items
+              if getattr(item, "function", None) is test_fast_subset and hasattr(item, "callspec")}
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return {c.name: pool.submit(run_case, c) for c in FAST if c.name in wanted}
+
+
+@pytest.mark.parametrize("case", FAST, ids=lambda c: c.name)
+def test_fast_subset(case, fast_outcomes):
+    _judge(case, fast_outcomes[case.name].result())
 
 
 @pytest.mark.slow
