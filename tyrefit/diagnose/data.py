@@ -20,7 +20,7 @@ import pandas as pd
 
 from ..effects.base import DataSummary, ModelInputs
 from ..errors import ColumnError, DataError, option
-from ..fitting.noise import MAX_POINTS_PER_SWEEP
+from ..fitting.noise import MAX_POINTS_PER_SWEEP, thin_sweeps
 
 __all__ = ["SweepData", "prepare", "condition_levels", "segments", "combine_records", "FACTORS"]
 
@@ -349,13 +349,7 @@ def prepare(data, rated_load: float | None = None, max_points_per_sweep: int = M
                           + [lidx[f] for f in lidx])
     sweep = pd.factorize(pd.MultiIndex.from_arrays(key.T))[0]
     # thin long sweeps evenly along the record
-    take = []
-    for s in range(sweep.max() + 1):
-        idx = np.flatnonzero(sweep == s)
-        if len(idx) > max_points_per_sweep:
-            idx = idx[np.unique(np.round(np.linspace(0, len(idx) - 1, max_points_per_sweep)).astype(int))]
-        take.append(idx)
-    take = np.sort(np.concatenate(take))
+    take = thin_sweeps(sweep, max_points_per_sweep)
     notes = []
     if len(take) < len(d):
         notes.append(f"{len(d)} points thinned to {len(take)} (at most {max_points_per_sweep} per sweep, "

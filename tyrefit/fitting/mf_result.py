@@ -13,9 +13,9 @@ Statistics
 * RMSE per channel [N or N*m] over every point where the channel is measured;
   R^2 = 1 - SS_res/SS_tot;
 * noise floor per channel: the one definition of ``fit`` (PAC89), ``diagnose``
-  and ``compare`` (:func:`tyrefit.fitting.result.noise_floor_of`: a smooth
-  spline through each sweep, pooled), slip-angle and slip-ratio sweeps pooled
-  by points;
+  and ``compare`` (:func:`tyrefit.fitting.noise.noise_floor` with the fit's
+  parameters, :func:`tyrefit.fitting.result.noise_floor_of`: a smooth spline
+  through each sweep, pooled), slip-angle and slip-ratio sweeps pooled by points;
 * condition cells: sweeps grouped by kind, load level, pressure, camber and
   slip angle (combined); RMSE per cell in % of the cell's peak |F|.
 
@@ -59,12 +59,13 @@ _SLIP = {"longitudinal": "slip_ratio", "lateral": "slip_angle", "combined": "sli
 
 
 def _noise_floor(df: pd.DataFrame, channel: str) -> float:
-    """The noise floor of ``fit``, ``diagnose`` and ``compare`` (:func:`tyrefit.fitting.result.noise_floor_of`).
+    """The noise floor of ``fit``, ``diagnose`` and ``compare`` of one channel over sweeps of several kinds.
 
-    One definition for every model, so a PAC89 and an MF fit of one file report the same floor: a
-    smooth spline through each sweep (1.5 deg knots along slip angle, 0.03 along slip ratio), pooled
-    over the sweeps.  Slip-angle sweeps and slip-ratio sweeps (pure or combined) are taken apart and
-    pooled by points.
+    One definition for every model, so a PAC89 and an MF fit of one file report the same floor:
+    :func:`tyrefit.fitting.noise.noise_floor` with the fit's parameters
+    (:func:`tyrefit.fitting.result.noise_floor_of`: 1.5 deg knots along slip angle, 0.03 along slip
+    ratio), on each kind of sweep (slip-angle sweeps; slip-ratio sweeps, pure or combined) apart,
+    since the kinds need different knot spacings; the kinds' floors are pooled by points.
     """
     tot, npts = 0.0, 0
     for kind, g in df.groupby("kind", sort=True):

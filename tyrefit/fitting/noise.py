@@ -1,13 +1,17 @@
 """The within-sweep noise floor: the error no global tyre model can beat inside a sweep.
 
-:func:`noise_floor` fits a smooth curve through each sweep on its own (a cubic least-squares
-spline with 1.5 deg knots, or one Magic Formula through a sparse sweep) and pools the residual
-variance over the sweeps.  Fit results report a model's RMSE against it, and diagnose uses it as
-the within-sweep part of its noise model (:mod:`tyrefit.diagnose.stats`).
+:func:`noise_floor` is tyrefit's one noise floor: ``fit`` (PAC89 and MF), ``diagnose`` and ``compare``
+all compare a model's RMSE with it.  It fits a smooth curve through each sweep on its own (a cubic
+least-squares spline, or one Magic Formula through a sparse sweep) and pools the residual variance
+over the sweeps; :func:`thin_sweeps` and :data:`MAX_POINTS_PER_SWEEP` thin long logged sweeps evenly
+along the record first, so that every command estimates it from the same points.  Callers differ
+only in its parameters (knot spacing, thinning); :func:`tyrefit.fitting.result.noise_floor_of` is
+the fit's parametrisation of it (knot spacing per part, any sweep labels, per-sweep values by label).
 
-:data:`MAX_POINTS_PER_SWEEP`: long logged sweeps are thinned evenly to at most this many points
-before the floor (and diagnose's fits) are computed, so that every command estimates it from the
-same points.
+The other noise estimates of the package estimate something else and are not floors of this kind:
+the fit's point scatter (:func:`tyrefit.fitting.engine.noise_floor`, neighbour differences, counts
+up/down hysteresis), the spread between repeated sweeps (:func:`tyrefit.diagnose.stats.repeat_noise`)
+and diagnose's AR(1) + sweep-offset noise model (:func:`tyrefit.diagnose.stats.estimate_noise`).
 """
 
 from __future__ import annotations
@@ -19,12 +23,34 @@ from scipy.signal import lfilter
 from ..errors import FitError
 from .core import Parameters, solve
 
-__all__ = ["noise_floor", "MAX_POINTS_PER_SWEEP"]
+__all__ = ["noise_floor", "thin_sweeps", "MAX_POINTS_PER_SWEEP"]
 
 #: points per sweep kept (evenly along the record) for the floor and for diagnose's fits
 MAX_POINTS_PER_SWEEP = 100
 
 _DEG = np.pi / 180.0
+
+
+def _thin(idx: np.ndarray, max_points: int) -> np.ndarray:
+    """``idx`` (one sweep's indices in record order) thinned evenly to at most ``max_points``."""
+    if len(idx) > max_points:
+        idx = idx[np.unique(np.round(np.linspace(0, len(idx) - 1, max_points)).astype(int))]
+    return idx
+
+
+def thin_sweeps(sweep, max_points: int = MAX_POINTS_PER_SWEEP) -> np.ndarray:
+    """Sorted indices of the points kept when each sweep is thinned evenly along the record.
+
+    Each sweep (points sharing a label of ``sweep``) longer than ``max_points`` keeps the points
+    nearest ``max_points`` evenly spaced positions along its record order; shorter sweeps are kept
+    whole.
+
+    >>> thin_sweeps([0, 0, 0, 0, 0, 1, 1], max_points=3).tolist()
+    [0, 2, 4, 5, 6]
+    """
+    sw = np.asarray(sweep)
+    take = [_thin(np.flatnonzero(sw == s), max_points) for s in np.unique(sw)]
+    return np.sort(np.concatenate(take)) if take else np.zeros(0, int)
 
 
 def _bspline_basis(x: np.ndarray, spacing: float) -> np.ndarray:
@@ -159,29 +185,51 @@ def _spline_ssr(x: np.ndarray, y: np.ndarray, spacing: float, load=None) -> tupl
     return float(r @ r), int(len(x) - rank)
 
 
-def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5, fz=None) -> tuple[float, np.ndarray]:
+def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5, fz=None,
+                max_points_per_sweep: int | None = None) -> tuple[float, np.ndarray]:
     """Within-sweep noise [N]: pooled RMSE of a smooth curve through each sweep.
+
+    What it estimates: the standard deviation of the measurement noise that is fast compared
+    with the tyre's force curve, i.e. what no smooth steady-state model can follow inside one
+    sweep.  A global model's RMSE against it says how much structure the model leaves.
+
+    Method: each sweep (sorted by slip) is fitted by a cubic least-squares regression spline
+    (B-spline basis with evenly spaced knots, de Boor, *A Practical Guide to Splines*, 2001,
+    ch. IX and XIV), its residual variance estimated as SSR / (n - rank) (the unbiased
+    error-variance estimate of linear least squares, Hastie, Tibshirani and Friedman, *The
+    Elements of Statistical Learning*, 2nd ed., 2009, Eq. 3.8), and the sweeps pooled as
+    sqrt(sum SSR / sum dof).  With ``fz``, a coarser spline times the relative load deviation
+    (a varying-coefficient term, Hastie and Tibshirani, *Varying-coefficient models*, JRSS B 55,
+    1993) absorbs the point-to-point load jitter a tyre model explains.  A sweep too sparse to
+    leave degrees of freedom beside the spline (fewer than max(6, n/4)) is fitted by one Magic
+    Formula instead (B, C, D, E, Sh, Sv; Pacejka, *Tyre and Vehicle Dynamics*, 3rd ed., 2012,
+    ch. 4), with n - 6 degrees of freedom.  Sweeps of fewer than 10 points are left out.
 
     Parameters
     ----------
     slip_angle : array_like
-        [rad].
+        [rad] (or slip ratio [-], with ``spacing_deg`` in degrees of it: slip ratio x 180 / pi).
     fy : array_like
-        [N].
+        [N] (or any force or moment channel).
     sweep : array_like of int
+        Sweep id of each point, 0 .. G-1.
     spacing_deg : float
         Knot spacing [deg] of the cubic spline in slip angle; the Magic
         Formula curve is smooth on this scale.
     fz : array_like, optional
         Measured load [N]; a coarse spline times its relative deviation within
         the sweep absorbs the load jitter the model explains.
+    max_points_per_sweep : int, optional
+        Thin each sweep evenly along the record to at most this many points first
+        (:func:`thin_sweeps`; ``fit`` and ``compare`` pass :data:`MAX_POINTS_PER_SWEEP`,
+        the points diagnose keeps).  Default: every point.
 
     Returns
     -------
     floor : float
         sqrt(sum SSR / sum dof) over the sweeps [N].
     per_sweep : ndarray
-        The same per sweep [N] (NaN where a sweep is too short).
+        The same per sweep id [N] (NaN where a sweep is too short).
 
     Notes
     -----
@@ -197,8 +245,10 @@ def noise_floor(slip_angle, fy, sweep, spacing_deg: float = 1.5, fz=None) -> tup
     per = np.full(G, np.nan)
     ssr_tot, dof_tot = 0.0, 0
     for g in range(G):
-        m = sw == g
-        if m.sum() < 10:
+        m = np.flatnonzero(sw == g)
+        if max_points_per_sweep is not None:
+            m = _thin(m, max_points_per_sweep)
+        if len(m) < 10:
             continue
         o = np.argsort(a[m], kind="stable")
         ssr, dof = _spline_ssr(a[m][o], y[m][o], spacing_deg * _DEG, None if z is None else z[m][o])

@@ -477,7 +477,12 @@ def within_sweep_noise(d, part: str) -> tuple[float, pd.Series]:
 
 
 def noise_floor_of(slip, y, run, fz, part: str = "lateral") -> tuple[float, pd.Series]:
-    """The one within-sweep noise floor [N or N*m] of ``fit``, ``diagnose`` and ``compare``.
+    """The fit's parametrisation of :func:`tyrefit.fitting.noise.noise_floor` [N or N*m].
+
+    The one within-sweep noise floor of ``fit``, ``diagnose`` and ``compare`` with the fit's
+    parameters: the knot spacing of ``part``, each sweep thinned to at most
+    :data:`~tyrefit.fitting.noise.MAX_POINTS_PER_SWEEP` points as diagnose thins it
+    (:func:`tyrefit.diagnose.data.prepare`), any sweep labels, and per-sweep values by label.
 
     Parameters
     ----------
@@ -497,20 +502,9 @@ def noise_floor_of(slip, y, run, fz, part: str = "lateral") -> tuple[float, pd.S
     (float, Series)
         pooled floor and per-sweep values (index: run).
     """
-    runs = np.asarray(run)
-    # diagnose's sampling (tyrefit.diagnose.data.prepare): each sweep thinned evenly along the record to at
-    # most MAX_POINTS_PER_SWEEP points, so both commands estimate the floor from the same points
-    npts = MAX_POINTS_PER_SWEEP
-    take = []
-    for r in np.unique(runs):
-        i = np.flatnonzero(runs == r)
-        if len(i) > npts:
-            i = i[np.unique(np.round(np.linspace(0, len(i) - 1, npts)).astype(int))]
-        take.append(i)
-    take = np.sort(np.concatenate(take)) if take else np.zeros(0, int)
-    uniq, idx = np.unique(runs[take], return_inverse=True)
-    floor, per = _nf(np.asarray(slip, float)[take], np.asarray(y, float)[take], idx,
-                     spacing_deg=_FLOOR_SPACING[part], fz=np.asarray(fz, float)[take])
+    uniq, idx = np.unique(np.asarray(run), return_inverse=True)
+    floor, per = _nf(slip, y, idx, spacing_deg=_FLOOR_SPACING[part], fz=np.asarray(fz, float),
+                     max_points_per_sweep=MAX_POINTS_PER_SWEEP)
     return float(floor), pd.Series(per, index=uniq, dtype=float)
 
 
