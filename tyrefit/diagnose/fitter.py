@@ -144,25 +144,8 @@ class ModelSpec:
             h = self._steps(x0, 1e-7)
             F = np.broadcast_to(_model(self._columns(x0, h), self.effects, inputs), (k + 1, n))
             return F[0], ((F[1:] - F[0]) / h[:, None]).T
-        h = self._steps(x0, 1e-6)
-        coef = _coefficients(self._columns(x0, h), self.effects, inputs)
-        # coefficients no parameter reaches stay scalars: no Jacobian column for them
-        varied = [c for c in pac89.LATERAL if isinstance(coef[c], np.ndarray) and coef[c].ndim > 0]
-        p0 = {c: (v[0] if isinstance(v, np.ndarray) and v.ndim == 2 else v) for c, v in coef.items()}
-        f0, Jc = pac89.lateral_jacobian(p0, inputs.fz, inputs.slip_angle, inputs.camber, names=varied)
-        J = np.zeros((n, k))
-        M = np.zeros((len(varied), k))  # d coefficient / d parameter of the coefficients alike at every point
-        for i, c in enumerate(varied):
-            v = coef[c]
-            if v.ndim == 1:  # point-wise but no parameter steps in it (a fixed value times the inputs)
-                continue
-            dv = (v[1:] - v[0]) / h[:, None]  # (k, 1) or (k, n)
-            if dv.shape[1] == 1:
-                M[i] = dv[:, 0]
-            else:
-                J += Jc[:, i:i + 1] * dv.T
-        J += Jc @ M
-        return f0, J
+        f0, J = self.jacobian_batch(x0[None, :], inputs, inputs)
+        return f0[0], J[0]
 
     def _point_values(self, X: np.ndarray, n: int) -> dict:
         """Values with parameter set f of ``X`` (F, P) at the points f*n .. (f+1)*n - 1 (fixed ones scalars)."""
@@ -185,13 +168,13 @@ class ModelSpec:
         X = np.atleast_2d(np.asarray(X, dtype=float))
         F, k = X.shape
         n = len(inputs.fz)
-        H = np.stack([self._steps(x, 1e-6) for x in X])  # (F, k)
+        H = self._steps(X, 1e-6)  # (F, k)
         # every set's parameter columns stacked: row f (k+1) + 0 at X[f], row f (k+1) + j + 1 stepped in j
+        C = np.repeat(X[:, None, :], k + 1, axis=1)  # (F, k+1, k)
+        C[:, np.arange(1, k + 1), np.arange(k)] += H
+        C = C.reshape(F * (k + 1), k)
         vals = {name: np.full((F * (k + 1), 1), v, dtype=float) for name, v in self.fixed.items()}
-        for j, name in enumerate(self.names):
-            col = np.repeat(X[:, j:j + 1], k + 1, axis=1)
-            col[:, j + 1] += H[:, j]
-            vals[name] = col.reshape(-1, 1)
+        vals.update({name: C[:, j:j + 1] for j, name in enumerate(self.names)})
         coef = _coefficients(vals, self.effects, inputs)
         varied, p0, dvs = [], {}, []
         for c in pac89.LATERAL:
@@ -201,7 +184,8 @@ class ModelSpec:
                 continue
             v3 = v.reshape(F, k + 1, -1)
             varied.append(c)
-            p0[c] = np.broadcast_to(v3[:, 0, :], (F, n)).reshape(-1)
+            # a value per set: one number for a single set, else spread over that set's points
+            p0[c] = v3[0, 0] if F == 1 else np.broadcast_to(v3[:, 0, :], (F, n)).reshape(-1)
             dvs.append((v3[:, 1:, :] - v3[:, :1, :]) / H[:, :, None])  # (F, k, 1 or n)
         p0 = {c: (np.tile(v, F) if isinstance(v, np.ndarray) and v.ndim == 1 and len(v) == n else v)
               for c, v in p0.items()}
