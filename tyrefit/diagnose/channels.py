@@ -70,7 +70,7 @@ from ..fitting.noise import LagOneNoise, noise_floor
 from ..models import pac89
 from .data import SweepData, prepare, segments, slip_ratio_segments
 from .contrast import CAMBER_ALPHA, _camber_evidence
-from .stats import HeldoutNull, NoiseModel, SweepLayout, cluster_sums, estimate_noise, simulate_noise
+from .stats import HeldoutNull, SweepLayout, corrected_noise, projection_basis
 
 __all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
            "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS"]
@@ -397,25 +397,12 @@ def _jacobian(cd: ChannelData, effects: list[Effect], fixed: dict, values: dict,
 def _noise_model(cd: ChannelData, resid: np.ndarray, J: np.ndarray, rng: np.random.Generator):
     """AR(1) + sweep-offset noise of the channel, estimated from ``resid`` and bias-corrected.
 
-    As in the lateral screening (:func:`tyrefit.diagnose.stats.screen_candidates`): the method-of-moments
-    estimate from the residuals of a model with directions ``J`` (:func:`~tyrefit.diagnose.stats.estimate_noise`,
-    degrees of freedom of those directions within and between sweeps), moved by the bias that 199 draws from
-    it show when re-estimated the same way (Efron & Tibshirani 1993, Sec. 10.3).
+    As in the lateral screening: :func:`tyrefit.diagnose.stats.corrected_noise` of the residuals of a model with
+    directions ``J``.
     """
     layout = SweepLayout(cd.sweep, cd.n_sweeps)
-    U, sv, _ = np.linalg.svd(J / np.maximum(np.linalg.norm(J, axis=0), 1e-300), full_matrices=False)
-    Q = U[:, sv > 1e-8 * sv[0]]
-    dof_b = float(np.sum((cluster_sums(Q, layout.sweep, layout.G) / np.sqrt(layout.n)[:, None]) ** 2))
-    dof_w = Q.shape[1] - dof_b
-
-    def proj(x):
-        return x - (x @ Q) @ Q.T
-
-    obs = estimate_noise(proj(resid), layout, dof_w, dof_b)
-    pilot = estimate_noise(proj(simulate_noise(obs, layout, 199, rng)), layout, dof_w, dof_b)
-    model = NoiseModel(sd=np.asarray(obs.sd) ** 2 / np.maximum(np.mean(pilot.sd, axis=0), 1e-300),
-                       rho=np.clip(2.0 * np.asarray(obs.rho) - np.mean(pilot.rho), -0.5, 0.97),
-                       tau=np.maximum(0.0, 2.0 * np.asarray(obs.tau) - np.mean(pilot.tau)))
+    Q, dof_w, dof_b = projection_basis(J, layout)
+    _, model = corrected_noise(resid, Q, dof_w, dof_b, layout, rng)
     return layout, model
 
 

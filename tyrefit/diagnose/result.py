@@ -161,10 +161,7 @@ class Diagnosis:
 
     def to_json(self, path: str | os.PathLike | None = None, force: bool = False) -> str:
         """The diagnosis as JSON text; also written atomically to ``path`` when given."""
-        text = json.dumps(self.to_dict(), indent=2) + "\n"
-        if path is not None:
-            write_text(path, text, force=force)
-        return text
+        return json_text(self.to_dict(), path, force)
 
     def report(self, directory: str | os.PathLike, force: bool = False) -> Path:
         """Write the HTML report ``directory/index.html`` (plus CSV tables); return its path."""
@@ -210,6 +207,14 @@ class Diagnosis:
         if effect_id not in self.accepted:
             raise KeyError(f"{effect_id!r} was not accepted; accepted: {', '.join(self.accepted) or 'none'}")
         return get_effect(effect_id).plot_signature(signature_view(self, effect_id), ax=ax)
+
+
+def json_text(data: dict, path: str | os.PathLike | None = None, force: bool = False) -> str:
+    """``data`` as indented JSON text; also written atomically to ``path`` when given."""
+    text = json.dumps(data, indent=2) + "\n"
+    if path is not None:
+        write_text(path, text, force=force)
+    return text
 
 
 def _num(x):

@@ -46,7 +46,8 @@ from ..fitting.noise import _bspline_basis, noise_floor  # noqa: F401  (diagnose
 
 __all__ = ["ScoreTest", "score_test", "GroupScoreTest", "score_test_groups", "residualise", "holm", "noise_floor",
            "SweepLayout", "NoiseModel", "estimate_noise", "simulate_noise", "repeat_noise", "Screen", "screen_candidates",
-           "heldout_gain_null", "HeldoutNull", "detectable_size", "draw_blocks", "decided", "MIN_FLIP_SWEEPS",
+           "heldout_gain_null", "HeldoutNull", "detectable_size", "draw_blocks", "decided", "corrected_noise",
+           "projection_basis", "MIN_FLIP_SWEEPS",
            "sweep_folds", "level_folds", "cluster_bootstrap_prob", "cluster_sums", "crossval_surface"]
 
 _DEG = np.pi / 180.0
@@ -588,7 +589,7 @@ def _pinv_quadratic(s: np.ndarray, V: np.ndarray, rcond: float) -> np.ndarray:
     return np.sum(inv * proj * proj, axis=1)
 
 
-def _basis(A: np.ndarray, layout) -> tuple[np.ndarray, float, float]:
+def projection_basis(A: np.ndarray, layout) -> tuple[np.ndarray, float, float]:
     """Orthonormal basis Q of the columns of ``A`` and the degrees of freedom they take within and between sweeps.
 
     The between-sweep part is Q's content in the sweep-mean space (what a model's directions spend of the
@@ -598,6 +599,28 @@ def _basis(A: np.ndarray, layout) -> tuple[np.ndarray, float, float]:
     Q = U[:, sv > 1e-8 * sv[0]]
     dof_b = float(np.sum((cluster_sums(Q, layout.sweep, layout.G) / np.sqrt(layout.n)[:, None]) ** 2))
     return Q, Q.shape[1] - dof_b, dof_b
+
+
+def corrected_noise(resid: np.ndarray, Q: np.ndarray, dof_within: float, dof_between: float, layout: SweepLayout,
+                    rng: np.random.Generator, n_pilot: int = 199) -> tuple[NoiseModel, NoiseModel]:
+    """The noise model of ``resid`` projected off the orthonormal directions ``Q``, and its bias-corrected version.
+
+    :func:`estimate_noise` of the projected residuals (``dof_within``, ``dof_between``: what the directions
+    spend, :func:`projection_basis`), then a bootstrap bias correction (Efron & Tibshirani 1993, Sec. 10.3):
+    the projection on a model's smooth directions removes slow noise, so rho, sd and tau come out low;
+    ``n_pilot`` draws from the estimate, re-estimated the same way, show the bias each parameter is moved by.
+    Returns (estimate, corrected).
+    """
+    def proj(x):
+        return x - (x @ Q) @ Q.T
+
+    obs = estimate_noise(proj(resid), layout, dof_within, dof_between)
+    pilot = estimate_noise(proj(simulate_noise(obs, layout, n_pilot, rng)), layout, dof_within, dof_between)
+    corrected = NoiseModel(
+        sd=np.asarray(obs.sd) * np.asarray(obs.sd) / np.maximum(np.mean(pilot.sd, axis=0), 1e-300),
+        rho=np.clip(2.0 * np.asarray(obs.rho) - np.mean(pilot.rho), -0.5, 0.97),
+        tau=np.maximum(0.0, 2.0 * np.asarray(obs.tau) - np.mean(pilot.tau)))
+    return obs, corrected
 
 
 def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.ndarray, layout: SweepLayout,
@@ -735,7 +758,7 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     # the alternative: model plus every candidate direction (orthonormal basis); the noise is estimated
     # from its residuals so an effect that is there does not pass for correlated noise
     keep = [True] * K if in_alternative is None else list(in_alternative)
-    Q, dof_w, dof_b = _basis(np.hstack([J_model] + [X for X, k in zip(Jt, keep) if k]), layout)
+    Q, dof_w, dof_b = projection_basis(np.hstack([J_model] + [X for X, k in zip(Jt, keep) if k]), layout)
     # variance of every candidate's score under a noise model: J~' Sigma J~ with Sigma_g = sd_g^2 rho^|i-j|
     # + tau^2, from lagged cross-products of J~ within each sweep
     Jp = np.moveaxis(layout.padded(allJ.T), 0, -1)  # (G, H, sum q)
@@ -755,18 +778,10 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     def alt_resid(x):
         return x - (x @ Q) @ Q.T
 
-    noise_obs = estimate_noise(alt_resid(r), layout, dof_w, dof_b)
-    # bootstrap bias correction of the noise model (Efron & Tibshirani 1993, Sec. 10.3): the projection on
-    # the model's smooth directions removes slow noise, so rho, sd and tau come out low; simulate from the
-    # estimate, re-estimate, and move each parameter by the bias the pilot draws show
-    pilot = estimate_noise(alt_resid(simulate_noise(noise_obs, layout, 199, rng)), layout, dof_w, dof_b)
-    noise = NoiseModel(
-        sd=np.asarray(noise_obs.sd) * np.asarray(noise_obs.sd) / np.maximum(np.mean(pilot.sd, axis=0), 1e-300),
-        rho=np.clip(2.0 * np.asarray(noise_obs.rho) - np.mean(pilot.rho), -0.5, 0.97),
-        tau=np.maximum(0.0, 2.0 * np.asarray(noise_obs.tau) - np.mean(pilot.tau)))
+    noise_obs, noise = corrected_noise(r, Q, dof_w, dof_b, layout, rng)
     # the draws' sweep offsets: the larger of that tau and the start model's own (restricted under the null,
     # from all the sweep means), see Notes; the statistics stay studentised with the full model's tau
-    Q0, dw0, db0 = _basis(J_model, layout)
+    Q0, dw0, db0 = projection_basis(J_model, layout)
     tau0 = estimate_noise(r - (r @ Q0) @ Q0.T, layout, dw0, db0).tau
     draw_model = NoiseModel(sd=noise.sd, rho=noise.rho, tau=np.maximum(np.asarray(noise.tau), tau0))
 

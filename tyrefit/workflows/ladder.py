@@ -29,7 +29,6 @@ seconds): its "held-out" error is its error on all sweeps, and only the correcti
 
 from __future__ import annotations
 
-import json
 import os
 import time
 from dataclasses import dataclass, field
@@ -41,9 +40,9 @@ from ..diagnose.channels import (_DEG, _FLOOR_SPACING, SYSTEMATIC, ChannelData, 
                                  sweep_p, systematic_share)
 from ..diagnose.data import combine_records
 from ..diagnose.ladder_report import write_report
+from ..diagnose.result import json_text
 from ..errors import DataError, option, render
 from ..fitting.noise import LagOneNoise, noise_floor
-from ..io.outputs import write_text
 from .fit import fit_mf_records
 
 __all__ = ["BEYOND", "LadderChannel", "LadderDiagnosis", "diagnose_mf"]
@@ -132,10 +131,8 @@ class LadderDiagnosis:
         return "\n".join(out)
 
     def to_json(self, path=None, force: bool = False) -> str:
-        text = json.dumps(self.to_dict(), indent=2) + "\n"
-        if path is not None:
-            write_text(path, text, force=force)
-        return text
+        """The ladder diagnosis as JSON text; also written atomically to ``path`` when given."""
+        return json_text(self.to_dict(), path, force)
 
     def report(self, directory: str | os.PathLike, force: bool = False) -> Path:
         return write_report(self, directory, force=force)
