@@ -284,6 +284,8 @@ KNOWN_SURVIVORS = [
      "alpha >= 0.01), and only the detectable size it reports"),
     ("tyrefit/diagnose/stats.py", "np.count_nonzero(min_boot <= p_obs.min())", "tie",
      "a draw's min-p within 1e-9 (relative) of the observed one"),
+    ("tyrefit/diagnose/stats.py", "np.searchsorted(min_boot, p_obs, side='right')", "tie",
+     "a draw's min-p within 1e-9 (relative) of a candidate's own p-value"),
     ("tyrefit/diagnose/engine.py", "evaluated[i][1].rmse_heldout <= evaluated[best[f]][1].rmse_heldout", "tie",
      "two variants of one family with bitwise-equal held-out RMSE"),
     ("tyrefit/diagnose/engine.py", "(lv[d.level_index[f]] - np.mean(lv)) * np.ptp(lv)", "equivalent",

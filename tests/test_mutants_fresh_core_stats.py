@@ -111,3 +111,17 @@ def test_repeat_noise_pairs_each_point_with_the_nearest_slip_angle_of_the_repeat
     out = S.repeat_noise(a, r, sweep, np.zeros(a.size, dtype=int))
     assert out is not None and out["pairs"] == 1
     assert out["sd_N"] == pytest.approx(1.0, rel=0.2)
+
+
+def test_simulated_ar1_noise_is_stationary_with_the_models_sd_and_correlation():
+    """simulate_noise draws each sweep's noise as a stationary AR(1): at every point of the sweep the sd is the
+    model's sd, and neighbours correlate at rho (stats.py [499]: innovations left unscaled by sqrt(1 - rho^2)
+    inflate the sd by 1/sqrt(1 - rho^2), 1.67 x at rho 0.8, and every null drawn from it)."""
+    lay = S.SweepLayout(np.repeat(np.arange(2), 40), 2)
+    nm = S.NoiseModel(sd=np.array([2.0, 3.0]), rho=np.array([0.8]), tau=np.array([0.0]))
+    e = S.simulate_noise(nm, lay, 20000, np.random.default_rng(0))
+    first, second = e[:, :40], e[:, 40:]
+    assert np.std(first, axis=0) == pytest.approx(np.full(40, 2.0), rel=0.05)
+    assert np.std(second, axis=0) == pytest.approx(np.full(40, 3.0), rel=0.05)
+    lag1 = np.mean(first[:, 1:] * first[:, :-1]) / np.mean(first * first)
+    assert lag1 == pytest.approx(0.8, abs=0.02)
