@@ -77,12 +77,14 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..errors import DataError, FitError, option
+from ..errors import DataError, FitError, close_matches, option
+from ..io.readers import derive_runs, read_data
 from ..models import pac89
 from . import initial as ini
 from ._blas import single_threaded_blas
 from .core import Parameters, covariance, huber, interior, soft_l1, solve
 from .core import objective as core_objective
+from .result import FitResult
 
 __all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
 
@@ -181,8 +183,6 @@ def _frame(data) -> tuple[pd.DataFrame, dict]:
         info["source"] = str(getattr(data, "source", "") or "")
         info["kind"] = str(getattr(data, "kind", "") or "")
     else:
-        from ..io.readers import read_data
-
         ds = read_data(data)
         df, info["source"], info["kind"] = ds.df, ds.source, ds.kind
     if "fz" not in df:
@@ -197,16 +197,8 @@ def _frame(data) -> tuple[pd.DataFrame, dict]:
 
 
 def _derive_runs(df: pd.DataFrame) -> np.ndarray:
-    try:
-        from ..io.readers import derive_runs
-
-        kind = "slip_angle" if "slip_angle" in df else "slip_ratio"
-        return np.asarray(derive_runs(df, kind)[0], int)
-    except ImportError:  # pragma: no cover - readers always present in the package
-        keys = [np.round(df["fz"] / max(1.0, 0.02 * df["fz"].abs().max()))]
-        if "camber" in df:
-            keys.append(np.round(np.degrees(df["camber"]) * 4))
-        return pd.MultiIndex.from_arrays(keys).factorize()[0]
+    kind = "slip_angle" if "slip_angle" in df else "slip_ratio"
+    return np.asarray(derive_runs(df, kind)[0], int)
 
 
 def _varies(g: pd.Series, tol: float) -> bool:
@@ -1038,8 +1030,6 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
     FitError
         the fit produced a non-finite result, or a curve that turns over.
     """
-    from .result import FitResult
-
     t0 = time.perf_counter()
     if cost not in COSTS:
         raise DataError(f"cost {cost!r} is not known; accepted: 'l2' (least squares), 'l1' (Komana et al. Eq. 5), "
@@ -1057,8 +1047,6 @@ def fit_pac89(data, *, cost: str = "l2", vary: Sequence[str] | None = None,
     for label, names in (("vary", vary or []), ("fixed", fixed), ("initial", initial), ("bounds", bounds)):
         bad = [k for k in names if k not in pac89.ALL]
         if bad:
-            from ..errors import close_matches
-
             raise DataError(f"{label}: {', '.join(bad)} not a PAC89 coefficient; accepted a0..a13, b0..b10, c0..c17"
                             + close_matches(bad[0], pac89.ALL))
     parts, info = prepare_data(data, screen=screen)

@@ -61,6 +61,7 @@ from .ttc import parse_ttc
 from .tydex import parse_tydex
 from ..errors import close_matches
 from .inputs import read_input_bytes
+from .segment import segment_record
 
 __all__ = [
     "Dataset",
@@ -518,8 +519,6 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
         if note:
             meta["time_order"] = note
     if t.segment:
-        from .segment import segment_record
-
         df, seg = segment_record(df, kind, source=str(p))
         meta["segmentation"] = seg
         meta["runs"] = "segmented from the continuous record (see segmentation)"
