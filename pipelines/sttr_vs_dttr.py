@@ -28,7 +28,7 @@ from tyrefit.nomenclature import G0
 from tyrefit.io.outputs import staged_dir, write_text
 from tyrefit.io.readers import read_data
 from tyrefit.workflows.sttr_vs_dttr import sttr_vs_dttr
-from tyrefit.tyres.size import complete_design, parse_size
+from tyrefit.tyres.size import parse_size, with_design
 
 
 #: the tyres' rated load (load index on the sidewall, seed 003: 4250 kg), FNOMIN of the .tir
@@ -51,8 +51,8 @@ def main(out_dir="reports/sttr_vs_dttr", force: bool = False) -> dict:
     summary = study.summary()
     with staged_dir(out_dir, force=force) as tmp:
         study.calibration.to_json(tmp / "RIG.json")
-        for key, fit in study.fits.items():
-            complete_design(fit.tyre, parse_size(SIZE), RATED_LOAD_KG * G0)
+        for key, fit in list(study.fits.items()):
+            fit = study.fits[key] = fit.with_tyre(with_design(fit.tyre, parse_size(SIZE), RATED_LOAD_KG * G0)[0])
             fit.tyre.to_tir(tmp / f"tyre_b_{key}.tir")
             fit.tyre.to_chrono_json(tmp / f"tyre_b_{key}.json")
         for key, cmp in study.comparisons.items():

@@ -271,11 +271,11 @@ def test_fit_warnings_reach_the_tir_and_the_chrono_json(fsae45, tmp_path):
 
     from tyrefit.io.tir import read_tyre
 
-    from tyrefit.tyres.size import complete_design, parse_size
+    from tyrefit.tyres.size import parse_size, with_design
 
     _, _, res = fsae45
     assert any("x the within-sweep noise floor" in w for w in res.warnings)  # 3 pressures in one PAC89 tyre
-    complete_design(res.tyre, parse_size("205/55R16"), 1500.0)  # design data Chrono's JSON needs
+    res = res.with_tyre(with_design(res.tyre, parse_size("205/55R16"), 1500.0)[0])  # design data Chrono's JSON needs
     res.tyre.to_tir(tmp_path / "t.tir")
     res.tyre.to_chrono_json(tmp_path / "t.json")
     header = read_tyre(tmp_path / "t.tir").header

@@ -94,8 +94,10 @@ def test_stiffnesses_and_tyre_info(files, rig):
     info = inp.tyre_info
     assert info["lateral_stiffness"] == inp.lateral_stiffness and info["vertical_curve"] == inp.vertical_curve
     assert any("Eq. 1" in h for h in info["header"])
-    tyre = inp.apply_to(Pac89Tyre(coefficients={"a0": 1.3}))
+    bare = Pac89Tyre(coefficients={"a0": 1.3})
+    tyre = inp.with_static_design(bare)
     assert tyre.vertical_stiffness == inp.vertical_stiffness and tyre.fnomin == fr
+    assert bare.vertical_stiffness is None and bare.fnomin is None  # a copy: the given tyre is not changed
 
 
 def test_default_fnomin_is_the_shoulder_load(files):

@@ -88,7 +88,7 @@ def run(args) -> int:
     ta = read_tyre(args.tyre_a)
     tb = read_tyre(args.tyre_b)
     for t in (ta, tb):  # how a file that does not declare its family was read (no [MODEL] section)
-        for note in getattr(t, "file_notes", []):
+        for note in t.file_notes:
             print(f"warning: {note}")
 
     for path, tyre in ((args.tyre_a, ta), (args.tyre_b, tb)):

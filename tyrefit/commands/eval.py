@@ -331,7 +331,7 @@ def run(args) -> int:
     print(f"wrote {out}: {n} points, {tyre.family} tyre {tyre.name!r} ({', '.join(headers)})")
     for prob in problems:
         print(f"  warning (--allow-unphysical): {prob}")
-    for w in getattr(tyre, "file_notes", []) + tyre.warnings():
+    for w in [*tyre.file_notes, *tyre.warnings()]:
         print(f"  warning: {w}")
     for n in notes:
         print(f"  note: {n}")

@@ -38,6 +38,7 @@ Statistics (per part: lateral Fy, longitudinal Fx, aligning Mz)
 
 from __future__ import annotations
 
+import copy
 import math
 import os
 from dataclasses import dataclass, field
@@ -135,6 +136,16 @@ class FitResult(TyreFitResult):
     _parts: dict = field(default_factory=dict, repr=False)
 
     # ------------------------------------------------------------------ construction
+    def with_tyre(self, tyre: Pac89Tyre) -> "FitResult":
+        """This result with another tyre (the same fit's tyre with design data added, renamed, ...).
+
+        A shallow copy: the statistics are shared, the notes and warnings lists are the copy's own,
+        and neither result's tyre is changed.
+        """
+        out = copy.copy(self)
+        out.tyre, out.notes, out.warnings = tyre, list(self.notes), list(self.warnings)
+        return out
+
     @classmethod
     def from_parts(cls, fits: dict, *, info: dict, cost: str, notes: list, tyre_info=None, fixed=None,
                    initial=None, seconds: float = 0.0, bounds=None) -> "FitResult":

@@ -136,7 +136,7 @@ REQUIRED_DESIGN = ("Unloaded Radius", "Width", "Lateral Stiffness", "Vertical St
 
 
 def _flags_for(missing: list[str]) -> str:
-    """The ``fit`` arguments that give the missing Chrono keys (see :func:`tyrefit.tyres.size.complete_design`);
+    """The ``fit`` arguments that give the missing Chrono keys (see :func:`tyrefit.tyres.size.with_design`);
     :func:`tyrefit.errors.option` names them, so the command line reads them as flags."""
     geometry = {"Unloaded Radius", "Width", "Mass", "Inertia"} & set(missing)
     stiffness = {"Vertical Stiffness", "Lateral Stiffness", "Vertical Damping"} & set(missing)

@@ -38,7 +38,7 @@ __all__ = ["PropertyFile", "read_property_file", "read_tir", "read_tyre", "write
            "pac89_from_property_file", "mf_from_property_file"]
 
 
-def pac89_from_property_file(pf: PropertyFile) -> Pac89Tyre:
+def pac89_from_property_file(pf: PropertyFile, file_notes: list[str] | None = None) -> Pac89Tyre:
     """A :class:`Pac89Tyre` from a parsed PAC89 property file (design data in SI).
 
     The lateral block a0..a13 is required; the longitudinal (b) and aligning
@@ -46,7 +46,7 @@ def pac89_from_property_file(pf: PropertyFile) -> Pac89Tyre:
     Missing coefficients are listed in :attr:`Pac89Tyre.missing` (so that
     ``inspect`` can name them) and make :meth:`Pac89Tyre.check` fail.
     """
-    return Pac89Tyre(**pac89_fields(pf))
+    return Pac89Tyre(**pac89_fields(pf), file_notes=list(file_notes or []))
 
 
 def read_tir(path: str | os.PathLike) -> Pac89Tyre:
@@ -82,9 +82,7 @@ def read_tyre(path: str | os.PathLike) -> Tyre:
                               "FITTYP = 61 (MF 6.1) / 6 (MF 5.2)")
         notes.append(f"{path}: no [MODEL] section (PROPERTY_FILE_FORMAT or FITTYP); read as {told} from {why}")
     if fam in ("PAC89", "MF52", "MF61"):
-        tyre = pac89_from_property_file(pf) if fam == "PAC89" else mf_from_property_file(pf)
-        tyre.file_notes = notes
-        return tyre
+        return (pac89_from_property_file if fam == "PAC89" else mf_from_property_file)(pf, file_notes=notes)
     fmt = pf.format
     raise FormatError(f"{path}: cannot tell the tyre model: PROPERTY_FILE_FORMAT / FITTYP is "
                       f"{fmt[:40] or 'missing'!s}; accepted: PAC89, MF 5.x/PAC2002 (FITTYP 5, 6, 21, 'MF_05', "
@@ -115,7 +113,7 @@ def _mf_factor(pf: PropertyFile, kind) -> float:
     return pf.unit_factor(kind[0]) * pf.unit_factor(kind[1]) / pf.unit_factor(kind[2])
 
 
-def mf_from_property_file(pf: PropertyFile) -> MFTyre:
+def mf_from_property_file(pf: PropertyFile, file_notes: list[str] | None = None) -> MFTyre:
     """An :class:`~tyrefit.tyres.mf.MFTyre` from a parsed MF 5.x / 6.x property file.
 
     Every numeric entry becomes a parameter under its upper-case key; the
@@ -162,4 +160,5 @@ def mf_from_property_file(pf: PropertyFile) -> MFTyre:
         header=list(pf.comments),
         tables={k: dict(v) for k, v in pf.tables.items()},
         source=pf.path,
+        file_notes=list(file_notes or []),
     )

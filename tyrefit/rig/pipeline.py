@@ -10,7 +10,7 @@ Its figures and report section are :mod:`tyrefit.rig.report`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pandas as pd
@@ -149,15 +149,15 @@ class StaticFitInput:
         lines += [f"range warning: {w}" for w in self.warnings]
         return lines
 
-    def apply_to(self, tyre):
-        """Set lateral and vertical stiffness, vertical curve and FNOMIN on a :class:`Pac89Tyre`; return it."""
-        tyre.lateral_stiffness = self.lateral_stiffness
-        tyre.fnomin = self.fnomin
+    def with_static_design(self, tyre):
+        """A copy of a :class:`Pac89Tyre` with the static tests' lateral and vertical stiffness, vertical curve
+        and FNOMIN (``tyre`` itself is not changed)."""
+        design = {"lateral_stiffness": self.lateral_stiffness, "fnomin": self.fnomin}
         if self.vertical_stiffness is not None:
-            tyre.vertical_stiffness = self.vertical_stiffness
+            design["vertical_stiffness"] = self.vertical_stiffness
         if self.vertical_curve:
-            tyre.vertical_curve = list(self.vertical_curve)
-        return tyre
+            design["vertical_curve"] = list(self.vertical_curve)
+        return replace(tyre, header=list(tyre.header), **design)
 
     # -- report --------------------------------------------------------------------------
     def plot_converted(self, ax=None, model=None):

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import abc
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -104,6 +105,8 @@ class Tyre(abc.ABC):
     nominal_pressure: float | None = None
     nominal_speed: float | None = None
     tyreside: str = "LEFT"
+    #: what the reader had to assume about the file it came from (e.g. a missing ``[MODEL]`` section)
+    file_notes: Sequence[str] = ()
 
     # -- evaluation -----------------------------------------------------------------
     @abc.abstractmethod

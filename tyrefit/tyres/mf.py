@@ -134,6 +134,8 @@ class MFTyre(Tyre):
     source: str = ""
     #: channels declared not fitted (``TYREFIT_NOT_FITTED`` comment); None: read from ``header``
     not_fitted: frozenset | None = None
+    #: what the reader had to assume about the file (a missing ``[MODEL]`` section); not written back
+    file_notes: list[str] = field(default_factory=list)
 
     combined = True
     outputs = ("fx", "fy", "mz", "mx", "my")

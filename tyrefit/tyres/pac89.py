@@ -108,6 +108,8 @@ class Pac89Tyre(Tyre):
     mass: float | None = None
     inertia: tuple[float, float, float] | None = None
     missing: list[str] = field(default_factory=list)
+    #: what the reader had to assume about the file (a missing ``[MODEL]`` section); not written back
+    file_notes: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         coeffs = {k: 0.0 for k in pac89.ALL}

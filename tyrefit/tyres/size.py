@@ -39,14 +39,14 @@ from __future__ import annotations
 import math
 import os
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..errors import DataError, option
 from ..models import mf61
 
-__all__ = ["TyreSize", "parse_size", "size_and_rated_load", "design_estimates", "complete_design", "G0", "loaded_radius_law",
+__all__ = ["TyreSize", "parse_size", "size_and_rated_load", "design_estimates", "with_design", "G0", "loaded_radius_law",
            "complete_mf_design", "MF_DESIGN_SECTIONS"]
 
 G0 = 9.80665
@@ -196,45 +196,56 @@ def design_estimates(*, unloaded_radius: float, width: float, rim_radius: float 
     return out
 
 
-def complete_design(tyre, size: TyreSize | None = None, rated_load: float | None = None) -> list[str]:
-    """Give a :class:`~tyrefit.tyres.pac89.Pac89Tyre` what Adams and Chrono require; return the notes.
+def with_design(tyre, size: TyreSize | None = None, rated_load: float | None = None):
+    """A copy of a :class:`~tyrefit.tyres.pac89.Pac89Tyre` with what Adams and Chrono require, and the notes.
 
     The size sets UNLOADED_RADIUS, WIDTH and ASPECT_RATIO (replacing none that
     the data gave); ``rated_load`` sets FNOMIN.  Then :func:`design_estimates`
     fills mass, inertia, vertical damping and any stiffness still missing;
-    each estimate is said in a header line of the tyre.  Without a radius and
-    width (no size) nothing is estimated, and the notes say what is missing.
+    each estimate is said in a header line of the new tyre.  Without a radius
+    and width (no size) nothing is estimated, and the notes say what is missing.
+    ``tyre`` itself is not changed.
+
+    Returns
+    -------
+    (tyre, notes)
+        the completed tyre and the notes, one sentence each.
     """
     notes: list[str] = []
+    design: dict[str, object] = {"header": list(tyre.header)}  # the copy shares no list with ``tyre``
     if size is not None:
         for attr, value in (("unloaded_radius", size.unloaded_radius), ("width", size.width),
                             ("aspect_ratio", size.aspect_ratio)):
             if getattr(tyre, attr) is None:
-                setattr(tyre, attr, value)
+                design[attr] = value
         notes.append(f"size {size.text}: unloaded radius {size.unloaded_radius * 1e3:.1f} mm (rim radius + section "
                      f"height), width {size.width * 1e3:.0f} mm, aspect ratio {size.aspect_ratio:.3g}")
     if rated_load is not None:
-        tyre.fnomin = float(rated_load)
-    if tyre.unloaded_radius is None or tyre.width is None:
+        design["fnomin"] = float(rated_load)
+
+    def now(attr):
+        return design.get(attr, getattr(tyre, attr))
+
+    if now("unloaded_radius") is None or now("width") is None:
         notes.append("no tyre size (--size): UNLOADED_RADIUS, WIDTH, ASPECT_RATIO, mass, inertia and vertical "
                      "damping are not written; Adams and Chrono need them")
-        return notes
-    load = tyre.fnomin
+        return replace(tyre, **design), notes
     try:
-        est = design_estimates(unloaded_radius=tyre.unloaded_radius, width=tyre.width,
-                               rim_radius=size.rim_radius if size is not None else None, rated_load=load,
-                               vertical_stiffness=tyre.vertical_stiffness, lateral_stiffness=tyre.lateral_stiffness,
-                               mass=tyre.mass, aspect_ratio=tyre.aspect_ratio,
-                               vertical_damping=tyre.vertical_damping, inertia=tyre.inertia)
+        est = design_estimates(unloaded_radius=now("unloaded_radius"), width=now("width"),
+                               rim_radius=size.rim_radius if size is not None else None, rated_load=now("fnomin"),
+                               vertical_stiffness=now("vertical_stiffness"),
+                               lateral_stiffness=now("lateral_stiffness"), mass=now("mass"),
+                               aspect_ratio=now("aspect_ratio"), vertical_damping=now("vertical_damping"),
+                               inertia=now("inertia"))
     except DataError as exc:
         notes.append(f"not estimated: {exc}")
-        return notes
+        return replace(tyre, **design), notes
     for key, (value, note) in est.items():
         if value is not None:
-            setattr(tyre, key, value)
+            design[key] = value
         notes.append(note)
-    tyre.header = list(tyre.header) + [n for n in notes if n not in tyre.header]
-    return notes
+    design["header"] += [n for n in notes if n not in tyre.header]
+    return replace(tyre, **design), notes
 
 
 #: the sections whose values a force fit does not give (their keys in :data:`tyrefit.models.mf61.COEFFICIENTS`)

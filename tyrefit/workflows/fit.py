@@ -9,7 +9,7 @@ PAC89 (:func:`fit_pac89_record`)
     static test's shape factor C (Eq. 2) and peak-friction law are held in the fit.  With ``effects``
     the diagnose start model and the start model plus those effects
     (:func:`tyrefit.effects.resolve_pac89`) are both fitted; the tyre holds the latter.  The size and
-    rated load complete the design data (:func:`tyrefit.tyres.size.complete_design`).
+    rated load complete the design data (:func:`tyrefit.tyres.size.with_design`).
 
 Magic Formula 5.2 / 6.1 (:func:`fit_mf_records`)
     The records (a cornering and a drive/brake record of one tyre, say) are gathered and fitted in
@@ -66,13 +66,13 @@ import os
 import re
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..errors import DataError, close_matches, option
 from ..io.plausibility import check_mirrored
 from ..io.readers import check_fittable, read_data
-from ..tyres.size import complete_design, complete_mf_design, loaded_radius_law, size_and_rated_load
+from ..tyres.size import with_design, complete_mf_design, loaded_radius_law, size_and_rated_load
 from ..effects import EFFECTS, resolve_pac89
 from ..fitting import fit_pac89
 from ..fitting.mf import _known_names as _mf_names, fit_mf, prepare_mf_data
@@ -329,16 +329,18 @@ def fit_pac89_record(ds, *, name: str, cost: str = "l2", effects: Sequence[str] 
         result.model_label = "PAC89" + (" + " + ", ".join(carried) if carried else " start model")
         for eid, why in dropped:
             result.warnings.append(f"effect {eid} requested but NOT in the model: {why}")
-            result.tyre.header.append(f"WARNING: effect {eid} requested but NOT in the model: {why}")
+        if dropped:
+            result = result.with_tyre(replace(result.tyre, header=result.tyre.header + [
+                f"WARNING: effect {eid} requested but NOT in the model: {why}" for eid, why in dropped]))
         extras["effects_carried"], extras["effects_dropped"] = carried, [e for e, _ in dropped]
     else:
         result = fit_pac89(data, cost=cost, tyre_info=info, fixed=fixed, **kw)
     if given is not None:
         notes += given.notes()
-    if sfi is not None:
-        sfi.apply_to(result.tyre)
-    notes += [n for n in complete_design(result.tyre, tyre_size, rated_load)
-              if "ESTIMATED" in n or "not estimated" in n or n.startswith("no tyre size")]
+    tyre = sfi.with_static_design(result.tyre) if sfi is not None else result.tyre
+    tyre, design_notes = with_design(tyre, tyre_size, rated_load)
+    result = result.with_tyre(tyre)
+    notes += [n for n in design_notes if "ESTIMATED" in n or "not estimated" in n or n.startswith("no tyre size")]
     result.notes.extend(n for n in notes if n not in result.notes)
     result.extras = extras
     return result

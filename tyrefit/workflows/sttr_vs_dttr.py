@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pandas as pd
@@ -222,12 +222,11 @@ def sttr_vs_dttr(reference_static, reference_dynamic, reference_patch, target_st
             range_msgs = [str(w.message) for w in caught]
         inputs[key] = inp
         res = fit_pac89(inp.data, cost=cost, **inp.fit_kwargs)
-        inp.apply_to(res.tyre)
-        res.tyre.name = f"tyre {names['target']} {key}"
-        fits[key] = res
+        fits[key] = res.with_tyre(replace(inp.with_static_design(res.tyre), name=f"tyre {names['target']} {key}"))
     dttr = fit_pac89(target_dynamic, cost=cost, tyre_info={"name": f"tyre {names['target']} dttr"})
     cal_inp = inputs["sttr_calibrated"]
-    cal_inp.apply_to(dttr.tyre)   # the static tests give the stiffnesses the field test does not
+    # the static tests give the stiffnesses the field test does not
+    dttr = dttr.with_tyre(cal_inp.with_static_design(dttr.tyre))
     fits["dttr"] = dttr
     comparisons = {key: compare_tyres(dttr.tyre, fits[key].tyre, target_dynamic,
                                       names=("DTTR fit", _LABEL[key])) for key in VARIANTS}
