@@ -223,8 +223,10 @@ def _run_by(args, out: Path) -> int:
             result, extras = fit_file(args, ds=sub)
         except DataError as e:
             raise DataError(f"--by {ch}, level {format_condition(ch, float(lv))}: {e}") from None
-        result.tyre.header.insert(1, f"one tyre per {ch} level (tyrefit fit --by {ch}): "
-                                     f"{format_condition(ch, float(lv))}, {len(runs)} sweeps")
+        header = list(result.tyre.header)
+        header.insert(1, f"one tyre per {ch} level (tyrefit fit --by {ch}): "
+                         f"{format_condition(ch, float(lv))}, {len(runs)} sweeps")
+        result = result.with_tyre(replace(result.tyre, header=header))
         fits.append((lv, tag, tir, js, runs, result, extras))
     if json_path:
         for *_, result, extras in fits:
