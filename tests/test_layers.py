@@ -15,9 +15,10 @@ The layers, lowest first (:data:`LAYERS`)::
     workflows, synthetic, api               (data files to results; generators and validation)
     commands, cli
 
-This is an import-linter "layers" contract plus an acyclic-components check, written with ``ast``
-because import-linter is not in this project's package index.  Unlike import-linter's default it
-counts imports inside functions too: a function-level import does not hide an upward dependency.
+The same layering is written as import-linter contracts in ``pyproject.toml`` (``[tool.importlinter]``),
+which the last two tests run.  The ``ast`` checks here add what those contracts do not say: no two
+components import each other (an acyclic-components check), and the count of imports written inside
+functions, which hide a dependency from a reader, is ratcheted down.
 :func:`test_function_level_imports_do_not_grow` ratchets their number down.
 """
 
@@ -147,3 +148,42 @@ def test_the_contract_sees_a_violation(tmp_path):
     f.write_text(f.read_text() + "\n\ndef _planted():\n    from ..sim import api  # noqa\n")
     found = [x for x in _imports(copy) if x[0] == "tyrefit.models.pac89" and x[1].startswith("tyrefit.sim")]
     assert found and found[0][3] and _layer(_component(found[0][1])) > _layer(_component(found[0][0]))
+
+
+# --- the same layering through import-linter (pyproject.toml's [tool.importlinter] contracts) -----------------
+def _lint_imports(root: Path, cwd: Path):
+    """Run ``lint-imports`` on the package under ``root`` with the contracts of ``cwd/pyproject.toml``."""
+    import os
+    import subprocess
+    import sys
+
+    import pytest
+
+    pytest.importorskip("importlinter", reason="import-linter is a test extra: pip install -e '.[test]'")
+    exe = Path(sys.executable).parent / "lint-imports"
+    cmd = [str(exe)] if exe.exists() else [sys.executable, "-c", "from importlinter.cli import lint_imports_command as c; c()"]
+    env = dict(os.environ, PYTHONPATH=str(root), PYTHONDONTWRITEBYTECODE="1")
+    return subprocess.run(cmd + ["--no-cache"], cwd=cwd, env=env, capture_output=True, text=True, timeout=300)
+
+
+def test_import_linter_contracts_are_kept():
+    p = _lint_imports(PKG.parent, PKG.parent)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-2000:]
+    assert "3 kept, 0 broken" in p.stdout
+
+
+def test_import_linter_sees_a_violation(tmp_path):
+    """An upward import planted in a copy of the package breaks the layers contract; one from a file format
+    module to the tyre classes breaks the format contract."""
+    import shutil
+
+    shutil.copytree(PKG, tmp_path / "tyrefit", ignore=shutil.ignore_patterns("data", "pipelines", "__pycache__"))
+    shutil.copy(PKG.parent / "pyproject.toml", tmp_path / "pyproject.toml")
+    f = tmp_path / "tyrefit" / "models" / "slip.py"
+    f.write_text(f.read_text() + "\n\ndef _planted():\n    from ..sim import api  # noqa\n")
+    g = tmp_path / "tyrefit" / "io" / "pac89_tir.py"
+    g.write_text(g.read_text() + "\nfrom ..tyres import base as _planted  # noqa\n")
+    p = _lint_imports(tmp_path, tmp_path)
+    assert p.returncode == 1, p.stdout[-3000:]
+    assert "tyrefit's layers BROKEN" in p.stdout and "tyre file formats below the tyre classes BROKEN" in p.stdout
+    assert "tyrefit.models.slip -> tyrefit.sim.api" in p.stdout
