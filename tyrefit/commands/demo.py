@@ -46,7 +46,8 @@ def run_demo(out: Path, force: bool = False, steps=STEPS, pipelines: Path | None
     """Run every demo step into ``out``; return the step records and the index path."""
     pipelines = Path(pipelines) if pipelines is not None else data_dir().parent / "pipelines"
     if not pipelines.is_dir():
-        raise DataError(f"{pipelines}: pipelines folder not found; run the demo from a source checkout")
+        raise DataError(f"{pipelines}: the demo's pipelines folder is missing (the package ships it beside its data); "
+                        "reinstall tyrefit")
     records = []
     with staged_dir(out, force=force) as tmp:
         for folder, script, what in steps:
