@@ -71,7 +71,7 @@ TARGETS = {
                           "tests/test_tir_no_model.py", "tests/test_mutations.py"],
     "tyrefit/io/readers.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_csv.py", "tests/test_io_errors.py",
                               "tests/test_io_load_programme.py"],
-    "tyrefit/io/segment.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_csv.py", "tests/test_io_ttc.py",
+    "tyrefit/io/segment.py": ["tests/test_mutants_sampled_io.py", "tests/test_mutants_session12.py", "tests/test_io_csv.py", "tests/test_io_ttc.py",
                               "tests/test_inspect.py"],
     # issue 25's modules (the quick files that import each, fastest first: -x stops at the first failure;
     # tests/test_mutants_sampled_*.py kill the sampled mutants of --sample 216 --seed 15 that survived the rest)
@@ -199,9 +199,6 @@ KNOWN_SURVIVORS = [
      "lateral_slope centres the slip angle per run, so the per-run mean force drops out of sum(a f)"),
     ("tyrefit/io/readers.py", "'static': ('fy', 0)}", "equivalent",
      "the expected sign of a static push is never read (the sign check skips static data)"),
-    ("tyrefit/io/segment.py", "np.flatnonzero(d[1:] != d[:-1]) - 1", "harmless",
-     "turning-point candidates 2 samples early bracket the same middle-of-range crossings: identical cuts on "
-     "the bundled TTC record and on an asymmetric test record"),
     ("tyrefit/io/segment.py", "np.where(ok, idx, 0)", "equivalent",
      "digits stay distinct among on-level samples; off-level samples never lie in a steady stretch"),
     ("tyrefit/io/segment.py", "direction = 1 if imax >= imin", "equivalent",
@@ -261,9 +258,6 @@ KNOWN_SURVIVORS = [
     ("tyrefit/fitting/engine.py", "'a4': (0.002,", "harmless", "a4's lower bound at 2e-3 kN instead of 1e-3 kN"),
     ("tyrefit/fitting/engine.py", "C, E_law = (spec.core[1], spec.curvature)", "harmless",
      "the multi-start's extra starts vary a1 instead of C; the Eq. 2-4 start is among them and the lowest cost wins"),
-    ("tyrefit/fitting/engine.py", "np.maximum(LOAD_SPIKE * med, SPIKE_K)", "harmless",
-     "the load-spike threshold moves only where 8 x the loads' MAD exceeds a quarter of the median load "
-     "(load noise above about 3 % of the load)"),
     ("tyrefit/fitting/mf.py", "np.sign(float(base.get('PKY1', -1.0))) / np.sign(A)", "equivalent",
      "A is the grid of +-2, 3, 4 deg, never 0: dividing by sign(A) = +-1 is multiplying by it"),
     ("tyrefit/fitting/mf.py", "np.sign(float(base.get('PKY1', 1.0)))", "equivalent",

@@ -97,3 +97,36 @@ def test_an_mf_62_file_reads_as_version_6_2_evaluated_as_6_1(tmp_path):
     for k in f61:
         assert np.all(np.isfinite(f61[k])), k
         np.testing.assert_array_equal(f62[k], f61[k])
+
+
+def test_load_spike_screening_scales_with_the_sweeps_own_load_noise():
+    """A record whose measured load fluctuates by 12 % (sd) around its set point (a rig holding position, not
+    load) loses no sample as a 'load spike'; a real spike, 2.5 x the set load, is still left out.  The
+    threshold is the larger of 25 % of the sweep's median load and 8 robust sd of its own load noise."""
+    from tyrefit.fitting.engine import screen_sweeps
+    from tyrefit.synthetic.pac89_example import lateral_sweeps
+
+    df = lateral_sweeps(loads=(3000.0, 6000.0), cambers_deg=(0.0,), seed=5)
+    rng = np.random.default_rng(11)
+    df["fz"] = df["fz"] * (1.0 + 0.12 * rng.standard_normal(len(df)))
+    spike = df.index[(df["run"] == df["run"].iloc[0])][40]
+    df.loc[spike, "fz"] = 2.5 * 3000.0
+    keep, rep = screen_sweeps(df, "fy", "slip_angle")
+    assert rep["load_spikes"] == 1 and not keep[df.index.get_loc(spike)]
+    assert rep["low_load"] == 0 and rep["force_spikes"] == 0 and int((~keep).sum()) == 1
+
+
+# ------------------------------------------------------------------------------ tyrefit/io/segment.py
+def test_turning_points_are_the_extremes_of_a_noisy_triangle_sweep():
+    """The zig-zag detector returns the samples where the slip turns: the largest (smallest) sample of each
+    leg, not a neighbour of it, with rig noise on every sample; ripples smaller than the threshold are not
+    turns."""
+    from tyrefit.io.segment import _turning_points
+
+    x = np.r_[np.linspace(0, 12, 49), np.linspace(12, -12, 97)[1:], np.linspace(-12, 12, 97)[1:],
+              np.linspace(12, 0, 49)[1:]]
+    x = x + 0.02 * np.random.default_rng(1).standard_normal(x.size)
+    x[20:23] += [0.0, 0.6, 0.0]  # a ripple of 0.6 deg on the first leg: below the threshold
+    want = [int(np.argmax(x[:96])), 96 + int(np.argmin(x[96:192])), 192 + int(np.argmax(x[192:]))]
+    assert want[0] in (47, 48, 49) and want[1] in (143, 144, 145) and want[2] in (239, 240, 241)
+    assert _turning_points(x, 3.0).tolist() == want
