@@ -106,9 +106,9 @@ TARGETS = {
 
 #: the mutations issue 15 found surviving: (name, file, old text, new text, tests)
 NAMED = [
-    ("sweep weighting 1/n dropped from the default cost", "tyrefit/fitting/engine.py",
-     "        self.weights = 1.0 / d.n_per_run  # each sweep counts once",
-     "        self.weights = 1.0 + 0.0 * d.n_per_run  # each sweep counts once",
+    ("sweep weighting 1/n dropped from the default cost", "tyrefit/fitting/problem.py",
+     "        self.weights = self.data.sweep_weights()",
+     "        self.weights = np.ones(self.y.size)",
      ["tests/test_fitting.py", "tests/test_mutations.py"]),
     ("speed effect's stiffness term deleted", "tyrefit/effects/catalogue.py",
      "    coef[\"a3\"] = coef[\"a3\"] * relative_factor(x.speed, x.speed_ref, v[\"speed_ky\"])\n",

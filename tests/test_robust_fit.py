@@ -79,9 +79,9 @@ def test_robust_cost_is_least_squares_near_the_noise():
     # the robust objective is (1/n_s) s^2 rho(r^2 / s^2) summed: check one point of it by hand
     prob = _Problem(d, a.values, ["a3"], "huber")
     th = prob.theta_of(a.values)
-    r = prob.mu_residual(th) / prob.scale
+    r = prob.rows(th) / prob.robust_scale
     rho = np.where(r**2 <= 1, r**2, 2 * np.abs(r) - 1)
-    assert prob.objective(th) == pytest.approx(float(np.sum(rho * prob.scale**2 / d.n_per_run)), rel=1e-10)
+    assert prob.objective(th) == pytest.approx(float(np.sum(rho * prob.robust_scale**2 / d.n_per_run)), rel=1e-10)
 
 
 # ------------------------------------------------------------------------------------- load glitches

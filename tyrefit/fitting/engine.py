@@ -82,8 +82,8 @@ from ..io.readers import derive_runs, read_data
 from ..models import pac89
 from . import initial as ini
 from ._blas import single_threaded_blas
-from .core import Parameters, covariance, huber, interior, soft_l1, solve
-from .core import objective as core_objective
+from .core import covariance, huber, interior, soft_l1
+from .problem import SweepProblem
 from .result import FitResult
 
 __all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
@@ -558,27 +558,28 @@ def noise_floor(d: PartData) -> tuple[float, pd.Series]:
 
 
 # ------------------------------------------------------------------------------ the problem
-class _Problem:
-    """Affine parametrisation theta -> coefficients with box bounds on theta."""
+class _Problem(SweepProblem):
+    """One PAC89 part on its sweeps: an affine parametrisation theta -> coefficients, box bounds on theta."""
+
+    method = "trf"  # dogbox was faster on some problems but took 2400 evaluations on others
+    tol = 1e-9
 
     def __init__(self, d: PartData, base: dict[str, float], vary: Sequence[str], cost: str,
                  bounds: Mapping[str, tuple[float, float]] | None = None):
+        super().__init__(d.y, d.run, cost)  # each sweep counts once: weights 1/n_s
         self.d = d
         self.spec = d.part
+        self.what = self.spec.name
         self.names = self.spec.names
         #: the caller's bounds (fit_pac89's ``bounds``), intersected with the physical ones
         self.user_bounds = {k: v for k, v in (bounds or {}).items() if k in self.names}
         self.base = {k: float(base.get(k, 0.0)) for k in self.names}
         self.vary = [k for k in self.names if k in set(vary)]
-        self.cost = cost
         lo, hi = d.fz_range
         self.lo, self.hi = lo * 1e-3, hi * 1e-3
-        self.weights = 1.0 / d.n_per_run  # each sweep counts once (the core's Sweeps default)
         self.inv_fz = 1.0 / d.norm
-        self.scale = None  # robust costs: per-point scale of the mu residual (see robust_scale)
-        if cost in ROBUST_LOSSES:
-            self.scale = robust_scale(d)
-        self.method = "trf"  # dogbox was faster on some problems but took 2400 evaluations on others
+        if cost in ROBUST_LOSSES:  # robust costs: per-point scale of the mu residual
+            self.robust_scale = robust_scale(d)
         self._build()
 
     # -- parametrisation ---------------------------------------------------------
@@ -667,7 +668,7 @@ class _Problem:
         return dict(zip(self.names, c.tolist()))
 
     # -- residuals --------------------------------------------------------------
-    def residual(self, theta):
+    def rows(self, theta):
         """Residual on mu = (F_model - F) / load of every point (unweighted; the core applies 1/n_s)."""
         p = self.coeffs_of(theta)
         y = self.spec.model(p, self.d.fz, self.d.slip, self.d.camber)
@@ -679,36 +680,6 @@ class _Problem:
         _, J = self.spec.jacobian(p, self.d, self.used)
         J = J * self.inv_fz[:, None]
         return J @ self.T[self.used_idx, :]
-
-    def parameters(self, theta) -> Parameters:
-        """theta as the core's parameters: the varied coefficients and constrained end values, with bounds."""
-        pars = Parameters()
-        for name, v, lo, hi in zip(self.theta_names, theta, self.lb, self.ub):
-            pars.add(name, float(v), min=lo, max=hi)
-        return pars
-
-    def solve(self, theta0, *, cost=None, max_nfev=None, tol=1e-9):
-        """Solve this part's problem from ``theta0`` with the fitting core; returns (theta, nfev).
-
-        ``cost`` defaults to the problem's own; each sweep weighs 1/n_s, robust
-        costs use :func:`robust_scale` as the per-point scale.
-        """
-        if len(theta0) == 0:
-            return theta0, 0
-        sol = solve(self.residual, self.parameters(theta0), jac=self.jac, weights=self.weights,
-                    cost=cost or self.cost, scale=self.scale, method=self.method, x_scale="jac",
-                    max_nfev=max_nfev or 200 * (len(theta0) + 1), tol=tol, stderr=False,
-                    what=self.spec.name)
-        return sol.x, sol.nfev
-
-    def objective(self, theta) -> float:
-        """The cost at ``theta``: sum w r^2 (l2), sum w |r| (l1), sum w s^2 rho((r/s)^2) (robust); w = 1/n_s."""
-        return core_objective(self.residual(theta), self.weights, self.cost, self.scale)
-
-    def mu_residual(self, theta) -> np.ndarray:
-        """Unweighted residual on mu = F / load (the load as in :attr:`PartData.norm`)."""
-        p = self.coeffs_of(theta)
-        return (self.spec.model(p, self.d.fz, self.d.slip, self.d.camber) - self.d.y) * self.inv_fz
 
 
 #: the outlier-resistant costs: rho of z = (r / s)^2, r the mu residual, s = HUBER_K x the sweep's noise
@@ -966,7 +937,7 @@ def _uncertainty(prob: _Problem, theta) -> tuple[dict[str, float], pd.DataFrame]
     names = prob.vary
     if not len(theta):
         return {}, pd.DataFrame()
-    cov_t, _ = covariance(prob.jac(theta), prob.residual(theta), prob.weights)
+    cov_t, _ = covariance(prob.jac(theta), prob.rows(theta), prob.weights)
     idx = [prob.names.index(k) for k in names]
     Tm = prob.T[idx, :]
     cov = Tm @ cov_t @ Tm.T

@@ -174,7 +174,7 @@ from ..models import mf61
 from . import initial as ini, mf_parts
 from ._blas import single_threaded_blas
 from .core import Parameters, covariance, solve
-from .core import objective as core_objective
+from .problem import SweepProblem
 from .mf_result import FitResultMF, _noise_floor
 from .mf_stages import (FX0, FXC, FY0, FYC, MX, MX_LINEAR, MY, MZ0, MZC, SPEED_FRICTION, STAGES,  # noqa: F401
                         _ONLY_61, _STAGE, Stage)
@@ -800,22 +800,21 @@ def _typical_step(name: str) -> float:
     return 0.1
 
 
-class _Problem:
+class _Problem(SweepProblem):
+    """One Magic Formula stage on its sweeps: the varied coefficients as theta, the tyre contract as penalty rows."""
+
     def __init__(self, stage: Stage, pts: pd.DataFrame, base: dict[str, float], vary: Sequence[str],
                  nominal: Mapping[str, float], version: str, cost: str, scale: float, pkysign: float,
                  mu_cap=None, env: Mapping | None = None):
+        super().__init__(pts[stage.channel].to_numpy(float), pts["run"].to_numpy(), cost)  # weights 1/n_s
         self.stage = stage
+        self.what = f"MF stage {stage.name}"
         self.base = dict(base)
-        self.vary = list(vary)
+        self.vary = self.theta_names = list(vary)
         self.eval = _Eval(pts, stage, nominal, version)
-        self.y = pts[stage.channel].to_numpy(float)
-        runs = pts["run"].to_numpy()
-        _, inv, cnt = np.unique(runs, return_inverse=True, return_counts=True)
-        n = cnt[inv].astype(float)
-        self.n_sweeps = len(cnt)
-        self.cost = cost
+        self.n_data = self.y.size  # the contract's penalty rows follow the data rows
+        self.n_sweeps = len(np.unique(self.data.sweep))
         self.inv = 1.0 / (self.eval.fz * scale)  # force over load, moment over load x radius
-        self.weights = 1.0 / n  # the core's cost weights: each sweep counts once
         self.mult = np.sqrt(self.weights) if cost == "l2" else self.weights  # the row multiplier the cost implies
         self.w = self.mult * self.inv  # weighted residual = w (y - data) (the variable projection uses it)
         self.lb = np.array([_BOUNDS.get(k, (-np.inf, np.inf))[0] for k in self.vary], float)
@@ -863,10 +862,6 @@ class _Problem:
         self._last = (np.array(theta, float), out.copy())  # the solver asks for the Jacobian where it evaluated last
         return out
 
-    def row_weights(self, n_rows: int) -> np.ndarray:
-        """The core's weights of every row: 1/n_s for the data, 1 for the penalties."""
-        return np.concatenate([self.weights, np.ones(n_rows - self.weights.size)])
-
     def residual(self, theta) -> np.ndarray:
         """Weighted residual as the solver sees it (data rows x the cost's multiplier, penalties as they are)."""
         r = self.mu_residual(theta)
@@ -905,24 +900,13 @@ class _Problem:
             J[n:, j] = (self.penalties(q) - pen0) / (t[j] - theta[j]) if active else 0.0
         return J
 
-    def parameters(self, theta) -> Parameters:
-        pars = Parameters()
-        for k, v, lo, hi in zip(self.vary, theta, self.lb, self.ub):
-            pars.add(k, float(v), min=lo, max=hi)
-        return pars
+    rows = mu_residual
 
-    def solve(self, theta0, *, cost=None, tol=1e-8, max_nfev=None):
-        """Solve with the fitting core from ``theta0`` (cost: the problem's own; ``'l1'`` continues from it)."""
-        if not len(theta0):
-            return np.asarray(theta0, float)
-        sol = solve(self.mu_residual, self.parameters(_inside(theta0, self.lb, self.ub)), jac=self.jac,
-                    weights=self.weights, n_data=self.y.size, cost=cost or self.cost, x_scale="jac", tol=tol,
-                    max_nfev=max_nfev or 100, stderr=False, what=f"MF stage {self.stage.name}")
-        return sol.x
+    def inside(self, theta) -> np.ndarray:
+        return _inside(theta, self.lb, self.ub)
 
-    def objective(self, theta) -> float:
-        r = self.mu_residual(theta)
-        return core_objective(r, self.row_weights(r.size), self.cost)
+    def max_nfev(self, n_free: int) -> int:
+        return 100
 
     def theta(self, p: Mapping[str, float]) -> np.ndarray:
         return _inside(np.array([float(p.get(k, self.base.get(k, 0.0))) for k in self.vary]), self.lb, self.ub)
@@ -1307,10 +1291,10 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
         c = {k: (v if k in want else base.get(k, v)) for k, v in st.items()}
         if core and len(core) < len(want):
             p1 = _Problem(stage, pts_s, c, core, nominal, version, "l2", scale, pkysign, **held_to)
-            c.update(p1.params(p1.solve(p1.theta(c), tol=1e-5)))
+            c.update(p1.params(p1.solve(p1.theta(c), tol=1e-5)[0]))
             nfev += p1.nfev
         p2 = _Problem(stage, pts_s, c, want, nominal, version, "l2", scale, pkysign, **held_to)
-        th = p2.solve(p2.theta(c), tol=1e-6)
+        th = p2.solve(p2.theta(c), tol=1e-6)[0]
         obj = p2.objective(th)
         nfev += p2.nfev
         log.append({"start": si, "objective_l2": obj})
@@ -1321,11 +1305,11 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
     prob = _Problem(stage, pts_p, prob_s.params(th), want, nominal, version, "l2", scale, pkysign, **held_to) \
         if len(pts_s) < len(pts_p) else prob_s
     n_before = prob.nfev
-    th = prob.solve(th, tol=1e-10, max_nfev=_SECONDARY_NFEV if secondary else _POLISH_NFEV)
+    th = prob.solve(th, tol=1e-10, max_nfev=_SECONDARY_NFEV if secondary else _POLISH_NFEV)[0]
     nfev += prob.nfev - n_before
     if cost == "l1":  # Komana et al. Eq. 5: the core's pseudo-Huber continuation from the l2 solution
         pl1 = _Problem(stage, pts_p, prob.params(th), want, nominal, version, "l1", scale, pkysign, **held_to)
-        th1 = pl1.solve(pl1.theta(prob.params(th)))
+        th1 = pl1.solve(pl1.theta(prob.params(th)))[0]
         nfev += pl1.nfev
         prob, th = pl1, th1
     stderr = _stderr(prob, th, len(pts_p))
@@ -1346,7 +1330,7 @@ def _fit_stage(stage: Stage, data: MFData, p: dict[str, float], *, vary_only: Se
         q[k] = n0
         rest = [n for n in want if n != k]
         trial = _Problem(stage, pts_p, q, rest, nominal, version, prob.cost, scale, pkysign, **held_to)
-        th1 = trial.solve(trial.theta(q), tol=1e-8, max_nfev=_HOLD_NFEV) if rest else np.zeros(0)
+        th1 = trial.solve(trial.theta(q), tol=1e-8, max_nfev=_HOLD_NFEV)[0] if rest else np.zeros(0)
         nfev += trial.nfev
         sse0, s2 = _weighted_sse(prob, th)
         sse1, _ = _weighted_sse(trial, th1)
