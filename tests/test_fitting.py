@@ -9,7 +9,7 @@ from numpy.testing import assert_allclose
 
 from tyrefit.errors import DataError
 from tyrefit.fitting import FitResult, estimate_sweep, fit_pac89
-from tyrefit.fitting.engine import _Problem, noise_floor, prepare_data
+from tyrefit.fitting.engine import _Problem, point_scatter, prepare_data
 from tyrefit.io.tir import read_tir
 from tyrefit.models import pac89
 from tyrefit.synthetic.pac89_example import EXAMPLE, example_tyre, lateral_sweeps, longitudinal_sweeps
@@ -299,7 +299,7 @@ def test_no_peak_fallback():
 def test_noise_floor_unaffected_by_smooth_curve():
     df = lateral_sweeps(loads=(4000.0,), cambers_deg=(0.0,), noise=0.0)
     parts, _ = prepare_data(df)
-    nf, _ = noise_floor(parts["lateral"])
+    nf, _ = point_scatter(parts["lateral"])
     peak = df["fy"].abs().max()
     assert nf < 0.002 * peak
 

@@ -461,13 +461,13 @@ def test_a_noise_free_sweep_gets_a_positive_robust_scale():
     """
     import pandas as pd
 
-    from tyrefit.fitting.engine import noise_floor, prepare_data, robust_scale
+    from tyrefit.fitting.engine import point_scatter, prepare_data, robust_scale
 
     i = np.arange(-10, 11)
     rows = [pd.DataFrame({"run": k, "fz": fz, "camber": 0.0, "slip_angle": i * 2.0**-7, "fy": -fz / 3.0 * i})
             for k, fz in ((1, 3000.0), (2, 6000.0))]
     d = prepare_data(pd.concat(rows, ignore_index=True), screen=False)[0]["lateral"]
-    pooled, per = noise_floor(d)
+    pooled, per = point_scatter(d)
     assert pooled == 0.0 and (per == 0.0).all()
     s = robust_scale(d)
     assert np.all(np.isfinite(s)) and np.all(s > 0), s

@@ -7,14 +7,14 @@ global fit on the friction coefficient (:mod:`tyrefit.fitting.engine`), and
 returns a :class:`FitResult` (:mod:`tyrefit.fitting.result`).
 """
 
-from .engine import fit_pac89, identifiability, noise_floor, prepare_data
+from .engine import fit_pac89, identifiability, point_scatter, prepare_data
 from .initial import estimate_sweep, estimate_sweeps
+from .noise import noise_floor
 from .result import FitResult
 
-#: the point-to-point scatter the fit weights by (neighbour differences, hysteresis counted as noise):
-#: what ``tyrefit.fitting.noise_floor`` has always named here.  The within-sweep noise floor models are
-#: judged against is :func:`tyrefit.fitting.noise.noise_floor`.
-point_scatter = noise_floor
+# noise_floor: the within-sweep noise floor models are judged against (a smooth curve per sweep, pooled);
+# point_scatter: the point-to-point scatter the robust costs scale by (neighbour differences, hysteresis
+# counted as noise): a different quantity, reported beside the floor as the fit's point scatter.
 
 __all__ = ["fit_pac89", "FitResult", "estimate_sweep", "estimate_sweeps", "identifiability", "noise_floor",
            "point_scatter", "prepare_data"]

@@ -86,7 +86,7 @@ from .core import covariance, huber, interior, soft_l1
 from .problem import SweepProblem
 from .result import FitResult
 
-__all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "noise_floor", "PARTS"]
+__all__ = ["fit_pac89", "PartData", "identifiability", "prepare_data", "point_scatter", "PARTS"]
 
 _RAD_TO_DEG = 180.0 / math.pi
 MU_MIN, MU_MAX = 0.02, 6.0
@@ -519,8 +519,8 @@ def identifiability(d: PartData) -> tuple[dict[str, str], dict]:
     return why, facts
 
 
-# ------------------------------------------------------------------------------ noise floor
-def noise_floor(d: PartData) -> tuple[float, pd.Series]:
+# ------------------------------------------------------------------------------ point scatter
+def point_scatter(d: PartData) -> tuple[float, pd.Series]:
     """Measurement-noise estimate [N or N*m] from neighbouring points along each sweep.
 
     Within a sweep sorted by slip, each interior point is compared with the
@@ -692,11 +692,11 @@ COSTS = ("l2", "l1", "soft_l1", "huber")
 def robust_scale(d: PartData) -> np.ndarray:
     """Per-point scale s_i of the mu residual for the robust costs: ``HUBER_K`` x the sweep's noise / load.
 
-    The noise of each sweep is :func:`noise_floor`'s (neighbouring points, median
+    The noise of each sweep is :func:`point_scatter`'s (neighbouring points, median
     absolute deviation: spikes do not inflate it); sweeps too short for it take
     the pooled value.  Below s the cost is least squares, above it grows linearly.
     """
-    pooled, per = noise_floor(d)
+    pooled, per = point_scatter(d)
     sig = pd.Series(d.run).map(per).to_numpy(float)
     if not np.isfinite(pooled) or pooled <= 0:
         pooled = max(1e-3 * float(np.max(np.abs(d.y))), 1e-12)
@@ -731,7 +731,7 @@ class PartFit:
     starts: list[dict]
     notes: list[str]
     data: PartData
-    noise_floor: float
+    point_scatter: float
     noise_per_run: pd.Series
     bounds: dict[str, tuple[float, float]]
     constraints: list[str]
@@ -811,7 +811,7 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
     best = None
     starts_log = []
     nfev_total = 0
-    nf_floor, nf_runs = noise_floor(d)
+    nf_floor, nf_runs = point_scatter(d)
     core = [k for k in spec.core if k in want]
     for si, start in enumerate(_starts(spec, c0)):
         start = {k: (c0[k] if k in fixed or k not in want else v) for k, v in start.items()}
@@ -902,7 +902,7 @@ def _fit_part(d: PartData, *, cost: str, vary: Iterable[str] | None, fixed: Mapp
     return PartFit(name=spec.name, coefficients=coeffs, varied=list(want), not_identifiable=why, stderr=stderr,
                    correl=correl, initial=c_init, estimates=est, facts=facts, objective=prob.objective(theta),
                    nfev=nfev_total, seconds=time.perf_counter() - t0, starts=starts_log, notes=notes, data=d,
-                   noise_floor=nf_floor, noise_per_run=nf_runs, bounds=bounds, constraints=constraints,
+                   point_scatter=nf_floor, noise_per_run=nf_runs, bounds=bounds, constraints=constraints,
                    warnings=_part_warnings(d, coeffs, nf_floor) + warns, at_bound=at_bound)
 
 

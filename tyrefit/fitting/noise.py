@@ -9,7 +9,7 @@ only in its parameters (knot spacing, thinning); :func:`tyrefit.fitting.result.n
 the fit's parametrisation of it (knot spacing per part, any sweep labels, per-sweep values by label).
 
 The other noise estimates of the package estimate something else and are not floors of this kind:
-the fit's point scatter (:func:`tyrefit.fitting.engine.noise_floor`, neighbour differences, counts
+the fit's point scatter (:func:`tyrefit.fitting.engine.point_scatter`, neighbour differences, counts
 up/down hysteresis), the spread between repeated sweeps (:func:`tyrefit.diagnose.stats.repeat_noise`)
 and diagnose's AR(1) + sweep-offset noise model (:func:`tyrefit.diagnose.stats.estimate_noise`).
 """

@@ -24,7 +24,7 @@ Statistics (per part: lateral Fy, longitudinal Fx, aligning Mz)
   ratio, with a load-jitter term) through each sweep on its own.  ``fit``,
   ``diagnose`` and ``compare`` report this one definition under this name.
   The engine's neighbour-difference estimate
-  (:func:`tyrefit.fitting.engine.noise_floor`, which also counts the
+  (:func:`tyrefit.fitting.engine.point_scatter`, which also counts the
   hysteresis between up and down branches) is kept as ``point_scatter``;
 * fit-quality warnings (:attr:`FitResult.warnings`): a fitted coefficient at
   one of its bounds (its standard error then means nothing), an RMSE above
@@ -167,7 +167,7 @@ class FitResult(TyreFitResult):
             stats[name] = {
                 "n": int(d.n), "sweeps": int(len(set(d.run.tolist()))), "rmse": math.sqrt(ss_res / d.n),
                 "r2": 1.0 - ss_res / ss_tot if ss_tot > 0 else float("nan"), "noise_floor": floor,
-                "point_scatter": pf.noise_floor,
+                "point_scatter": pf.point_scatter,
                 "objective": pf.objective, "eq5_cost": float(np.sum(np.abs(mu_res))),
                 "mean_abs_mu": float(np.mean(np.abs(mu_res))), "nfev": pf.nfev, "seconds": pf.seconds,
                 "fz_range": d.fz_range, "unit": unit, "varied": len(pf.varied), "facts": pf.facts,
