@@ -54,11 +54,11 @@ def test_every_effect_is_documented(eid):
         assert "not representable in PAC89" in e.pac89_note
 
 
-def test_cards_cite_the_seeds():
-    assert "seed 003" in get_effect("overload").card.sources[0]
+def test_cards_cite_the_papers():
+    assert "Komana et al." in get_effect("overload").card.sources[0]
     assert "4250" in get_effect("overload").card.size
     cam = " ".join(get_effect("camber").card.sources)
-    assert "seed 001" in cam and "tyrefit.models.brush" in cam
+    assert "Zhang et al. 2024" in cam and "tyrefit.models.brush" in cam
     assert "Eq. 19" in get_effect("camber").card.what
 
 
@@ -296,14 +296,14 @@ def test_signature_plot_returns_axes():
     plt.close("all")
 
 
-# --- camber_brush: the camber brush model's thrust (seed 001 Eq. 17-22) ----------------------
+# --- camber_brush: the camber brush model's thrust (Zhang et al., Eq. 17-22) -----------------
 def test_camber_brush_is_a_documented_camber_variant():
     e = get_effect("camber_brush")
     assert e.family == "camber" and e.param_names == ("camber_brush_k", "camber_brush_n")
     assert e.neutral == {"camber_brush_k": 0.0, "camber_brush_n": 0.0}
     assert not e.representable and set(e.pac89_approx) == {"a8", "a11"}
     src = " ".join(e.card.sources)
-    assert "seed 001" in src and "17-22" in src and "tyrefit.models.brush" in src
+    assert "Zhang et al. 2024" in src and "17-22" in src and "tyrefit.models.brush" in src
     assert e.signature == "camber_stiffness_vs_fz"
     few = DataSummary(fz_levels=(3e3, 5e3), camber_levels=(0.0, 3 * DEG))
     assert "3 camber levels" in e.why_not_testable(few)

@@ -115,7 +115,8 @@ def add_scenario_parsers(ssub, common, allow_unphysical) -> None:
         s.add_argument("--front", metavar="F.tir", help="front (hard, low-wear) tyre; default the bundled one")
         s.add_argument("--rear", metavar="R.tir", help="rear (soft) tyre; default the bundled one")
         s.add_argument("--vehicle", metavar="FILE|PRESET", default="ev",
-                       help="vehicle file (TOML or JSON) or preset: ev (default, seed 000's car), fsae, light_truck")
+                       help="vehicle file (TOML or JSON) or preset: ev (default, the car of Pham et al. 2025), "
+                            "fsae, light_truck")
         s.add_argument("--strict", action="store_true",
                        help="refuse when a tyre works outside the load/slip envelope its file declares")
         s.add_argument("--road-friction", type=float, default=1.0, metavar="FACTOR",
@@ -213,23 +214,25 @@ def build_parser() -> argparse.ArgumentParser:
                         "`fit --model mf61|mf52` writes, and what it still misses")
     _convention(p)
 
-    p = sub.add_parser("sim", help="vehicle simulations (seed 000 scenarios, seed 001 adhesion)")
+    p = sub.add_parser("sim", help="vehicle simulations (scenarios of Pham et al. 2025, road adhesion of "
+                                   "Zhang et al. 2024)")
     ssub = p.add_subparsers(dest="scenario", metavar="SCENARIO", parser_class=_Parser)
     ssub.required = True
     add_scenario_parsers(ssub, common, _allow_unphysical)
-    s = ssub.add_parser("adhesion", parents=[common], help="EKF road-adhesion estimation (seed 001)")
+    s = ssub.add_parser("adhesion", parents=[common], help="EKF road-adhesion estimation (Zhang et al. 2024)")
     s.add_argument("--road-mu", type=float, default=0.8, metavar="MU")
     s.add_argument("--camber", type=float, default=0.0, metavar="DEG")
     s.add_argument("--json", metavar="OUT.json")
     s.add_argument("--report", metavar="DIR")
 
-    p = sub.add_parser("slip", parents=[common], help="longitudinal slip characteristics (seed 002)")
+    p = sub.add_parser("slip", parents=[common], help="longitudinal slip characteristics (Ghasemi et al. 2021)")
     p.add_argument("data", metavar="DATA")
     p.add_argument("--json", metavar="OUT.json")
     p.add_argument("--report", metavar="DIR")
     _convention(p)
 
-    p = sub.add_parser("traction", parents=[common], help="treadwear-traction law from braking tests (seed 000)")
+    p = sub.add_parser("traction", parents=[common],
+                       help="treadwear-traction law from braking tests (Pham et al. 2025)")
     p.add_argument("data", metavar="BRAKING.csv")
     p.add_argument("--json", metavar="OUT.json")
     p.add_argument("--report", metavar="DIR")

@@ -1,6 +1,6 @@
 """``tyrefit sim adhesion [--road-mu MU] [--camber DEG] [--json OUT.json] [--report DIR]``.
 
-Seed 001's road-adhesion experiment (:mod:`tyrefit.sim.adhesion`): the true
+The road-adhesion experiment of Zhang et al. 2024 (:mod:`tyrefit.sim.adhesion`): the true
 vehicle runs on improved camber brush tyres on a road of adhesion MU with
 camber DEG on the left wheels and the opposite on the right; an EKF
 estimates mu per wheel from a_x, a_y and the yaw moment, once with the
@@ -70,7 +70,7 @@ def adhesion_report(road_mu, camber_deg, truth, results, sweep=None):
     from matplotlib.figure import Figure
 
     r = Report(f"Road adhesion estimation: mu = {road_mu:g}, camber {camber_deg:g} deg",
-               subtitle="Seed 001 (Zhang et al. 2024), §4: 7-DOF vehicle, camber brush tyres, extended Kalman "
+               subtitle="Zhang et al. 2024, §4: 7-DOF vehicle, camber brush tyres, extended Kalman "
                         "filter on a_x, a_y and the yaw moment.")
     r.p(f"The true vehicle runs on the {truth.tyre} model with camber "
         f"{camber_deg:g} deg on the left wheels and {-camber_deg:g} deg on the right (ISO-W inclination), a "

@@ -24,14 +24,14 @@ from ..io.report import Report
 
 #: (folder, pipeline script, what it shows)
 STEPS = [
-    ("fit", "fit_truck.py", "PAC89 fit of the bundled truck tyre's dynamic-rig data, .tir and Chrono JSON (issue 3)"),
+    ("fit", "fit_truck.py", "PAC89 fit of the bundled truck tyre's dynamic-rig data, .tir and Chrono JSON"),
     ("sttr_vs_dttr", "sttr_vs_dttr.py",
-     "Static-rig tyre from two days of static tests, calibrated on a second tyre, against its dynamic data (issue 4)"),
+     "Static-rig tyre from two days of static tests, calibrated on a second tyre, against its dynamic data"),
     ("diagnose", "diagnose_passenger.py",
-     "Diagnosis of the bundled passenger tyre: where the model fails, which effect is missing (issue 5)"),
+     "Diagnosis of the bundled passenger tyre: where the model fails, which effect is missing"),
     ("emission_control", "emission_control.py",
-     "Fitted soft and hard tyres in the wear-aware torque-allocation scenarios of seed 000 (issue 6)"),
-    ("physics", "physics.py", "Camber brush model, EKF road-adhesion estimation, slip characteristics (issue 7)"),
+     "Fitted soft and hard tyres in the wear-aware torque-allocation scenarios of Pham et al. 2025"),
+    ("physics", "physics.py", "Camber brush model, EKF road-adhesion estimation, slip characteristics"),
 ]
 
 

@@ -1,6 +1,6 @@
 """``tyrefit sim braking|straight|curved [--front F.tir --rear R.tir] [--json OUT.json] [--report DIR]``.
 
-Seed 000's scenarios (:mod:`tyrefit.sim.scenarios`) for the base vehicle
+The scenarios of Pham et al. 2025 (:mod:`tyrefit.sim.scenarios`) for the base vehicle
 (the rear, soft tyre on both axles) and the low-wear vehicle (hard front,
 soft rear, wear-aware allocator), at conditions 0.5 and 1.0 and 30, 60 and
 120 km/h.  Without ``--front``/``--rear`` the bundled tyres of ``data/sim``
@@ -42,9 +42,9 @@ __all__ = ["run", "sim_report", "ramp_report", "step_steer_report", "braking_tur
            "add_scenario_parsers"]
 
 _TITLES = {
-    "braking": "Emergency braking (seed 000 Table 3)",
-    "straight": "Straight path: accelerate, then brake (seed 000 Table 4, Figs. 7-9)",
-    "curved": "Curved path: straight, arc, straight (seed 000 Table 5, Figs. 10-12)",
+    "braking": "Emergency braking (Pham et al. 2025, Table 3)",
+    "straight": "Straight path: accelerate, then brake (Pham et al. 2025, Table 4, Figs. 7-9)",
+    "curved": "Curved path: straight, arc, straight (Pham et al. 2025, Table 5, Figs. 10-12)",
 }
 
 
@@ -99,7 +99,7 @@ def sim_report(res):
     """HTML :class:`~tyrefit.io.report.Report` of a scenario result (figures embedded)."""
     st = res.setup
     r = Report(_TITLES[res.scenario],
-               subtitle="Pham, Hamedmoghadam, Shorten (seed 000): low-wear hard tyres on the front axle, soft "
+               subtitle="Pham, Hamedmoghadam, Shorten (2025): low-wear hard tyres on the front axle, soft "
                         "tyres at the rear, and an allocator that makes the vehicle drive like the all-soft one.")
     r.h2("Set-up")
     v = st["vehicle"]
@@ -127,20 +127,20 @@ def sim_report(res):
                                                                  f"{st['slip_limit_rear']}"},
         {"item": "time step [s]", "value": str(st["dt_s"])},
     ])
-    r.p("Calibrated to seed 000's Table 3: the drag coefficient (from the growth of the maximum deceleration "
+    r.p("Calibrated to Table 3 of Pham et al.: the drag coefficient (from the growth of the maximum deceleration "
         "between 30 and 120 km/h) and, through the synthetic tyres' peak friction and the 0.95 peak share of "
         "the slip limit, the soft tyre's effective friction (about 1.10) and the hard/soft ratio (about 0.815). "
         "Mass, inertias and wheel radius are tyrefit's choices (the paper's values did not survive).", cls="warn")
     r.p("Controller. The allocator predicts the base (all-soft) vehicle's forces at the measured state from the "
         "driver's steering and force demand (equal split within the soft tyres' slip limits; soft-tyre lateral "
         "forces, Eq. 24-25), then splits the longitudinal force between the axles with least emission: the "
-        "closed form of Eq. 30 without steering, seed 000's Alg. 1 over the steering correction with steering "
+        "closed form of Eq. 30 without steering, the paper's Alg. 1 over the steering correction with steering "
         "(Eq. 31-34; re-run every 10 steps, the lateral balance re-solved at every step). Instead of the paper's "
         "offline path-discretised optimal-control problem, a causal force-tracking torque controller (inverse "
         "tyre curve for the reference slip, wheel torque r F_ref + J dw_ref/dt + J K (w_ref - w)) turns the "
         "references into wheel torques at every time step, as an ECU would; the tables below show how closely "
-        "the forces follow their references. Slip limits (Eq. 49-50): a tyre's characteristic slip (seed 002) "
-        "where the tyre provides one, else |mu| <= 0.95 of its peak.")
+        "the forces follow their references. Slip limits (Eq. 49-50): a tyre's characteristic slip "
+        "(Ghasemi et al. 2021) where the tyre provides one, else |mu| <= 0.95 of its peak.")
     if res.scenario == "braking":
         r.h2("Stopping distance and maximum deceleration")
         r.table([{"eta": d["condition"], "km/h": d["initial_speed_kmh"], "vehicle": d["vehicle"],
@@ -151,7 +151,7 @@ def sim_report(res):
         ratios = [{"eta": res.rows[i]["condition"], "km/h": res.rows[i]["initial_speed_kmh"],
                    "low-wear / base": res.rows[i + 1]["stopping_distance_m"] / res.rows[i]["stopping_distance_m"]}
                   for i in range(0, len(res.rows), 2)]
-        r.table(ratios, caption="Stopping-distance ratio (seed 000: about 1.10)")
+        r.table(ratios, caption="Stopping-distance ratio (Pham et al.: about 1.10)")
         r.figure(braking_figure(res), "Speed and deceleration against distance; simulated against the paper's "
                                       "stopping distances.")
         r.p("Full brake demand from free rolling; both vehicles' torque controllers hold each axle at its slip "

@@ -1,4 +1,4 @@
-"""``tyrefit slip DATA [--json OUT.json] [--report DIR]``: longitudinal slip characteristics (seed 002).
+"""``tyrefit slip DATA [--json OUT.json] [--report DIR]``: longitudinal slip characteristics (Ghasemi et al. 2021).
 
 Reads slip-ratio data (:func:`tyrefit.io.readers.read_data`), fits
 ``mu = mu_p (1 - exp(-k s))`` per load level, and reports the characteristic
@@ -44,7 +44,7 @@ def _jsonable(x):
 
 
 def _summary(a: SlipAnalysis) -> str:
-    lines = [f"slip characteristics (seed 002), nu_c = {a.nu_c:g}"]
+    lines = [f"slip characteristics (Ghasemi et al. 2021), nu_c = {a.nu_c:g}"]
     for f in a.fits:
         lab = f"Fz {f.fz / 1e3:6.2f} kN" if f.fz is not None else "all"
         lines.append(f"  {lab}: mu_p = {f.mu_peak:.4f} +/- {f.mu_peak_stderr:.4f}, k = {f.k:.3f} +/- {f.k_stderr:.3f}, "
@@ -57,7 +57,7 @@ def _summary(a: SlipAnalysis) -> str:
     return "\n".join(lines)
 
 
-def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)"):
+def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (Ghasemi et al. 2021)"):
     """An HTML :class:`tyrefit.io.report.Report` of a slip analysis."""
     from matplotlib.figure import Figure
 
@@ -80,13 +80,13 @@ def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)")
         ax = fig.subplots()
         a.plot_curvature(ax)
         r.figure(fig, "Curvature of the fitted laws (Eq. 15); dotted lines mark s_c where it meets nu_c "
-                 "(seed 002 Fig. 5).")
+                 "(Ghasemi et al., Fig. 5).")
         fig = Figure(figsize=(11, 4))
         axs = fig.subplots(1, 2)
         a.plot_mobility(axs[0], modified=False)
         a.plot_mobility(axs[1], modified=True)
         r.figure(fig, "Wheel mobility-agility index mu (1 - mu/mu_p) (Eq. 26, left) and its modified form "
-                 "mu (1 - mu/mu_c) up to s_c (Eq. 27, right): seed 002 Fig. 7-8.")
+                 "mu (1 - mu/mu_c) up to s_c (Eq. 27, right): Ghasemi et al., Fig. 7-8.")
         best = []
         for f in a.fits:
             s = np.linspace(0, f.characteristic_slip, 400)
@@ -106,7 +106,7 @@ def slip_report(a: SlipAnalysis, title: str = "Slip characteristics (seed 002)")
         axs[1].plot(rad.torque, lw * 1e6, ".")
         axs[1].set_xlabel("wheel torque T [N m]")
         axs[1].set_ylabel("elasticity factor lambda_w [mm/(kN m)]")
-        r.figure(fig, "Left: rolling radius vs torque with the quadratic fit (Eq. 19, seed 002 Fig. 6). "
+        r.figure(fig, "Left: rolling radius vs torque with the quadratic fit (Eq. 19, Ghasemi et al., Fig. 6). "
                  "Right: the longitudinal elasticity factor (r0 - r)/T at each point (Eq. 20).")
     r.json_block(_jsonable(a.as_dict()))
     return r

@@ -1,9 +1,9 @@
-"""``tyrefit traction BRAKING.csv [--json OUT.json] [--report DIR]``: treadwear-traction law (seed 000).
+"""``tyrefit traction BRAKING.csv [--json OUT.json] [--report DIR]``: treadwear-traction law (Pham et al. 2025).
 
 Reads a table of tyres with their UTQG treadwear grade and a braking test
 (``treadwear [-]``, ``stopping_distance [m|ft]``, ``initial_speed
 [km/h|mph|m/s]``, optionally ``name``), turns each stopping distance into a
-peak friction coefficient with seed 000's Eq. 41 (HPwizard's K = 6.58e-5
+peak friction coefficient with Eq. 41 of Pham et al. (HPwizard's K = 6.58e-5
 s^2/m^2 and f_r = 0.013), fits mu = a TW^-b (Eq. 42) and compares it with
 HPwizard's a = 2.25, b = 0.15.  With the fitted b it gives the emission ratio
 k = (mu_h / mu_s)^(1/b) (Eq. 43) of the bundled hard/soft pair of ``tyrefit
@@ -65,7 +65,7 @@ def traction_report(table, d: dict):
     from matplotlib.figure import Figure
 
     fit = table.fit
-    r = Report("Treadwear against traction (seed 000, Eq. 41-43)",
+    r = Report("Treadwear against traction (Pham et al. 2025, Eq. 41-43)",
                subtitle=f"data: {table.source}" if table.source else None)
     r.p("Each tyre's stopping distance d from speed v0 gives its peak friction by Eq. 41, "
         f"mu = K v0^2 / (exp(2 g K d) - 1) - f_r with K = {table.K:g} s^2/m^2 and f_r = {table.f_r:g} "
@@ -81,7 +81,7 @@ def traction_report(table, d: dict):
     ax = fig.subplots()
     fit.plot(ax)
     r.figure(fig, "Peak friction from the stopping distances against UTQG treadwear, with the fitted law and "
-                  "HPwizard's (seed 000 Fig. 4).")
+                  "HPwizard's (Pham et al., Fig. 4).")
     ex = d["examples"]
     r.p(f"By the fitted law a tyre of treadwear {ex['points'][0]['treadwear']:g} has mu = "
         f"{ex['points'][0]['mu']:.3f} and one of {ex['points'][1]['treadwear']:g} has mu = "
@@ -117,8 +117,9 @@ def run(args) -> int:
     table = traction_from_data(ds)
     d = traction_dict(table)
     fit = table.fit
-    print(f"treadwear-traction law (seed 000 Eq. 42) from {len(table.names)} tyres: mu = {fit.a:.4f} TW^-{fit.b:.4f} "
-          f"(+/- {fit.a_stderr:.4f}, {fit.b_stderr:.4f}), R2 = {fit.r2:.3f}; HPwizard: 2.25 TW^-0.15")
+    print(f"treadwear-traction law (Pham et al. 2025, Eq. 42) from {len(table.names)} tyres: "
+          f"mu = {fit.a:.4f} TW^-{fit.b:.4f} (+/- {fit.a_stderr:.4f}, {fit.b_stderr:.4f}), R2 = {fit.r2:.3f}; "
+          "HPwizard: 2.25 TW^-0.15")
     if "bundled_pair" in d:
         p = d["bundled_pair"]
         print(f"bundled pair: mu_h/mu_s = {p['mu_ratio']:.4f} -> k = {p['k']:.4f} (Eq. 43), ideal reduction "

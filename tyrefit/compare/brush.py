@@ -1,4 +1,4 @@
-"""The camber brush model (seed 001) against PAC89: where the Magic Formula cannot follow.
+"""The camber brush model (Zhang et al. 2024) against PAC89: where the Magic Formula cannot follow.
 
 :func:`compare_brush_pac89` evaluates the lateral force Fy(alpha, gamma, Fz)
 of the improved camber brush model (2N strips, :func:`tyrefit.models.brush.camber_brush_forces`)
@@ -29,7 +29,7 @@ into a :class:`tyrefit.io.report.Report`.
 References
 ----------
 Zhang, Zhu, Zhou, Chen, Liu (2024), *Estimation of road adhesion coefficient
-based on camber brush model*, World Electr. Veh. J. 15, 263 (seed 001),
+based on camber brush model*, World Electr. Veh. J. 15, 263,
 Eq. 1-30 (Eq. 20 camber and cornering stiffness, Eq. 22 the camber term).
 Bakker, Nyborg, Pacejka (1989), the PAC89 lateral force (a5, a8, a11).
 """
@@ -261,7 +261,7 @@ class BrushComparison:
         m = self.improved
         r = report
         r.h2("Camber brush model vs PAC89")
-        r.p(f"Fy(alpha, gamma, Fz) of the improved camber brush model (seed 001, {2 * self.n} strips, "
+        r.p(f"Fy(alpha, gamma, Fz) of the improved camber brush model (Zhang et al. 2024, {2 * self.n} strips, "
             f"tyrefit.models.brush defaults unless stated) at {len(m.loads)} loads "
             f"({', '.join(f'{v / 1e3:.1f}' for v in m.loads['fz'])} kN), cambers "
             f"{', '.join(f'{v:g}' for v in sorted(m.cells['camber_deg'].unique()))} deg and slip angles to "

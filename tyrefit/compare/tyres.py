@@ -30,7 +30,7 @@ each bin's mean slip angle and mean measured load, and
 ``mean_abs_dmu_over_peak_vs_data`` is the mean |mu_model - mu_data| over the
 bins divided by the data's peak |mu| in 0-12 deg.
 
-The "agreement" 100 (1 - mean |dmu| / mu_peak) [%] turns the seed's "the
+The "agreement" 100 (1 - mean |dmu| / mu_peak) [%] turns the claim "the
 STTR tyre model captures the tyre's nonlinear behaviour within 90 % of the
 DTTR tyre measurements" (Komana et al., Sec. 7) into a number per load.
 
@@ -70,7 +70,7 @@ __all__ = ["LoadComparison", "Comparison", "compare_tyres", "model_metrics", "da
            "SLIP_RANGE_DEG", "CHANNELS", "compare_channels", "channel_value", "fx_metrics", "mz_metrics",
            "mx_metrics", "channel_vs_data"]
 
-#: slip-angle window of the mean |dmu| score [deg] (the DTTR sweeps 0-12 deg, seed 003)
+#: slip-angle window of the mean |dmu| score [deg] (the DTTR of Komana et al. sweeps 0-12 deg)
 SLIP_RANGE_DEG = (0.0, 12.0)
 #: bin width of the data curve [deg]
 BIN_DEG = 0.5
@@ -537,7 +537,7 @@ class Comparison:
         lo, hi = self.slip_range_deg
         r.p(f"Mean |Δμ| / μ_peak over {lo:g}-{hi:g} deg between the models: worst load "
             f"{100 * s['worst_mean_abs_dmu_over_peak']:.2f} % — {b} agrees with {a} within "
-            f"{s['min_agreement_pct']:.1f} % at every load (the seed's 'within 90 %', as a number).")
+            f"{s['min_agreement_pct']:.1f} % at every load (Komana et al.'s 'within 90 %', as a number).")
         if "worst_vs_data" in s:
             r.p(f"Against the data ({self.data_source}): worst load {100 * s['worst_vs_data'][0]:.2f} % for {a}, "
                 f"{100 * s['worst_vs_data'][1]:.2f} % for {b}: agreement {s['min_agreement_with_data_pct'][0]:.1f} % "

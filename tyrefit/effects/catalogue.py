@@ -15,11 +15,11 @@ Families
                     term, D (1 + q dfz^2 + r dfz^3) (not PAC89 or MF 6.x: see below)
 ``curvature_load``  curvature changing with load (a6); ``curvature_load_curved`` bends that law,
                     E = a6 Fz + a7 + c dfz^2
-``overload``        grip falling above the rated load (seed 003 Sec. 4.2; not PAC89); the variant
+``overload``        grip falling above the rated load (Komana et al., Sec. 4.2; not PAC89); the variant
                     ``overload_degressive`` puts the hinge on a degressive trend (a1),
                     ``overload_knee`` fits how wide the knee is (where below the rating the loss starts)
-``camber``          camber thrust, shift and stiffness loss (a5, a8, a11; seed 001); the variant
-                    ``camber_brush`` is the camber brush model's thrust (seed 001 Eq. 17-22)
+``camber``          camber thrust, shift and stiffness loss (a5, a8, a11; Zhang et al. 2024); the variant
+                    ``camber_brush`` is the camber brush model's thrust (Zhang et al., Eq. 17-22)
 ``offsets``         ply steer and conicity shifts (a9, a10, a12, a13)
 ``pressure``        inflation pressure on stiffness and grip (not PAC89)
 ``speed``           travel speed on grip and stiffness (not PAC89)
@@ -70,8 +70,8 @@ margin, the diagnosis adds the one with fewer terms
 References
 ----------
 Komana, Els, Becker, *Cost efficient tyre testing, modelling and validation for
-PBS assessments* (seed 003).  Zhang et al., *Estimation of road adhesion
-coefficient based on camber brush model*, WEVJ 15 (2024) 263 (seed 001).
+PBS assessments*.  Zhang et al., *Estimation of road adhesion
+coefficient based on camber brush model*, WEVJ 15 (2024) 263.
 Pacejka, *Tire and Vehicle Dynamics* (MF 6.1 pressure terms PPY1, PPY3).
 """
 
@@ -195,7 +195,7 @@ def _apply_overload_stiffness(coef: dict, v: Mapping, x: ModelInputs) -> None:
 
 
 def brush_camber_fade(slip_angle, bcd, d):
-    """Share of the linear camber thrust left at a slip angle: (2 - 3 u_c + u_c^3)/4 (seed 001 Eq. 22).
+    """Share of the linear camber thrust left at a slip angle: (2 - 3 u_c + u_c^3)/4 (Zhang et al., Eq. 22).
 
     Parameters
     ----------
@@ -329,7 +329,7 @@ _OV_W = Param("overload_width", KNEE_HALF_WIDTH, (0.01, 0.5), (0.03, 0.3), "-", 
 _OV_KY = Param("overload_ky", 0.0, (-1.0, 3.0), (0.0, 1.0), "-", 0.3,
                "cornering-stiffness loss per rated load of overload")
 _CB_K = Param("camber_brush_k", 0.0, (-200.0, 200.0), (0.0, 30.0), "N/(kN^1.5 deg)", 5.0,
-              "brush camber stiffness K_yg = k Fz^(3/2 + n) per deg at zero slip, Fz in kN (seed 001 Eq. 20)")
+              "brush camber stiffness K_yg = k Fz^(3/2 + n) per deg at zero slip, Fz in kN (Zhang et al., Eq. 20)")
 _CB_N = Param("camber_brush_n", 0.0, (-1.5, 1.5), (-0.5, 0.8), "-", 0.2,
               "load exponent of K_yg beyond 3/2 (the brush's 3 a2 + c3 - 3/2, a ~ q^a2, Re ~ q^-c3)")
 _P_KY = Param("pressure_ky", 0.0, (-5.0, 5.0), (-0.5, 1.0), "-", 0.3,
@@ -350,7 +350,7 @@ _CARD_LOAD_FRICTION = PhysicsCard(
     test="Lateral-force sweeps through the peak at >= 3 loads (peak mu against Fz).",
     vehicle=("Load transfer costs grip: the axle with more lateral load transfer saturates first, which sets "
              "the limit understeer/oversteer balance."),
-    sources=("Komana et al. (seed 003) fit a1 with a2 in their PAC89 parameterisation (Sec. 4.3)",))
+    sources=("Komana et al. fit a1 with a2 in their PAC89 parameterisation (Sec. 4.3)",))
 
 _CARD_OVERLOAD = PhysicsCard(
     what=("Above the rated load the contact patch turns rectangular and caves in at the centre line: the "
@@ -360,12 +360,12 @@ _CARD_OVERLOAD = PhysicsCard(
           "tyre and lower above it; 5-20 % loss of mu at 40 % overload is typical."),
     test="Lateral-force sweeps at loads below and above the rated load (give rated_load).",
     vehicle=("An overloaded axle loses grip and cornering stiffness: lower yaw damping and more rearward "
-             "amplification in PBS manoeuvres (seed 003)."),
-    sources=("Komana et al. (seed 003), Sec. 2 (patch shape, Fig. 1) and Sec. 4.2 (friction above the rated load)",))
+             "amplification in PBS manoeuvres (Komana et al.)."),
+    sources=("Komana et al., Sec. 2 (patch shape, Fig. 1) and Sec. 4.2 (friction above the rated load)",))
 
 _CARD_CAMBER = PhysicsCard(
     what=("On a cambered tyre the tread elements run through the patch on a curved path: the camber brush "
-          "model (Zhang et al., seed 001) deflects the bristles sideways by y = -(a^2 - x^2) sin(gamma)/(2 Re) "
+          "model (Zhang et al. 2024) deflects the bristles sideways by y = -(a^2 - x^2) sin(gamma)/(2 Re) "
           "(Eq. 19) even at zero slip, giving a camber thrust -K_ygamma sin(gamma) with K_ygamma = "
           "2 a^3 k_ty/(3 Re) (Eq. 20) that fades as the sliding zone grows (Eq. 22); PAC89 writes it as a "
           "vertical shift a11 Fz gamma and a horizontal shift a8 gamma. Camber also narrows the contact "
@@ -375,9 +375,9 @@ _CARD_CAMBER = PhysicsCard(
           "cornering-stiffness loss about 0.5 %/deg (a5 about 0.005/deg)."),
     test="The same slip sweeps at >= 3 camber angles, e.g. -4, 0, +4 deg (>= 2 for thrust and shift only).",
     vehicle=("Static camber adds a lateral force on each wheel and more grip in corners; camber gain in roll "
-             "shapes the steady-state handling; the road-adhesion estimate depends on it (seed 001)."),
-    sources=("Zhang et al. (seed 001) camber brush model, Eqs. 1, 17-22",
-             "tyrefit.models.brush (camber brush model, issue 7) computes these terms from the brush physics"))
+             "shapes the steady-state handling; the road-adhesion estimate depends on it (Zhang et al. 2024)."),
+    sources=("Zhang et al. 2024, camber brush model, Eqs. 1, 17-22",
+             "tyrefit.models.brush (the camber brush model) computes these terms from the brush physics"))
 
 _CARD_OFFSETS = PhysicsCard(
     what=("Ply steer (from the angle of the belt plies) and conicity (a slightly conical tyre) make a lateral "
@@ -417,8 +417,8 @@ _CARD_PRESSURE = PhysicsCard(
     test="The same sweeps at >= 2 inflation pressures.",
     vehicle=("Front/rear pressure split is a handling tuning parameter (understeer gradient); under-inflation "
              "lowers cornering stiffness and stability."),
-    sources=("Zhang et al. (seed 001) Eq. 1: contact width inversely related to pressure",
-             "Komana et al. (seed 003) Sec. 4.2: lateral stiffness directly proportional to inflation pressure",
+    sources=("Zhang et al. 2024, Eq. 1: contact width inversely related to pressure",
+             "Komana et al., Sec. 4.2: lateral stiffness directly proportional to inflation pressure",
              "MF 6.1 pressure terms PPY1 (stiffness), PPY3 (friction)"))
 
 _CARD_CURVATURE = PhysicsCard(
@@ -460,7 +460,7 @@ _NOT_PAC89_CURVED_CURVATURE = (
     "best straight line over the fitted load range.")
 
 _CARD_CAMBER_BRUSH = PhysicsCard(
-    what=("The camber brush model's own camber term (Zhang et al., seed 001): on a leaning tyre the bristles "
+    what=("The camber brush model's own camber term (Zhang et al. 2024): on a leaning tyre the bristles "
           "follow a parabola y = -(a^2 - x^2) sin(gamma)/(2 Re) through the patch (Eq. 18-19), which gives a "
           "thrust -K_ygamma sin(gamma) at zero slip with K_ygamma = 2 a^3 k_y/(3 Re) (Eq. 20). The half-length a "
           "grows with load (a ~ Fz^(1/2) for a classical tyre, a ~ q^a2 in Eq. 11), so K_ygamma grows like "
@@ -475,8 +475,8 @@ _CARD_CAMBER_BRUSH = PhysicsCard(
           "full sliding (|slip angle| >= 8 deg)."),
     vehicle=("Camber thrust that grows faster than the load moves more lateral force to the outer, loaded "
              "wheels in a corner and vanishes at the limit: static camber helps in the linear range, not "
-             "at the friction limit; the road-adhesion estimator of seed 001 uses exactly this term."),
-    sources=("Zhang et al. (seed 001) camber brush model, Eqs. 17-22 (Eq. 19 parabolic camber deflection, "
+             "at the friction limit; the road-adhesion estimator of Zhang et al. uses exactly this term."),
+    sources=("Zhang et al. 2024, camber brush model, Eqs. 17-22 (Eq. 19 parabolic camber deflection, "
              "Eq. 20 K_ygamma = 2 a^3 k/(3 Re), Eq. 21-22 slip point and camber term)",
              "tyrefit.models.brush (camber_brush_forces, camber_stiffness) computes the same terms strip by "
              "strip; tyrefit.compare.brush fits PAC89 to it"))

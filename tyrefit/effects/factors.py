@@ -30,7 +30,7 @@ def overload_factor(fz, rated_load: float, k, half_width=KNEE_HALF_WIDTH):
     Notes
     -----
     A hinge at the rated load: grip is unchanged below Fr and falls linearly
-    above it, the behaviour Komana et al. (seed 003, Sec. 4.2) report for a
+    above it, the behaviour Komana et al. (Sec. 4.2) report for a
     truck tyre above its 4250 kg rating.  The knee is rounded over
     Fr (1 +- :data:`KNEE_HALF_WIDTH`) by a quadratic blend (the C1 hinge
     ``(x + w)^2 / 4w`` for ``|x| < w``): the contact patch does not change

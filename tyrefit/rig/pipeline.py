@@ -269,7 +269,7 @@ def prepare_static_fit(static_ds, patch_ds, *, rig: RigCalibration | None = None
                                                                                  else None)
     if rated_load is None:
         notes.append(f"FNOMIN = {fnomin / G0:.0f} kg: the patch's shoulder load at {p_test / 1e5:.2f} bar "
-                     "(seed 003: the maximum load at a pressure is reached when the patch becomes rectangular); "
+                     "(Komana et al.: the maximum load at a pressure is reached when the patch becomes rectangular); "
                      "give the rated load to override")
     lat = static.lateral_stiffness(fnomin)
     vertical = vstiff = vcurve = None

@@ -66,7 +66,7 @@ def report_section(inp, report, model=None) -> None:
 
     r = report
     r.h2("Static tyre test rig (STTR) pipeline")
-    r.p("Komana, Els and Becker (seed 003): contact patch -> vertical stiffness -> static lateral push -> "
+    r.p("Komana, Els and Becker: contact patch -> vertical stiffness -> static lateral push -> "
         "Eq. 1 (lateral displacement to slip angle with the patch length L) -> PAC89 fit on mu = Fy/Fz.")
     for w in inp.warnings:
         r.p("Range warning: " + w, cls="warn")
@@ -79,7 +79,7 @@ def report_section(inp, report, model=None) -> None:
     fig = Figure(figsize=(13, 3.8))
     axes = fig.subplots(1, 3)
     inp.patch.plot(getattr(inp, "_patch_df", None), axes=axes)
-    r.figure(fig, "Contact-patch length, width and area against load per pressure (cf. seed 003 Fig. 2); "
+    r.figure(fig, "Contact-patch length, width and area against load per pressure (cf. Komana et al., Fig. 2); "
                   "dotted lines: fitted shoulder (breakpoint) loads.")
     if inp.vertical is not None:
         r.h3("Vertical stiffness")

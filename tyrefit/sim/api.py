@@ -180,7 +180,7 @@ def _paper_notes(doc: dict, scenario: str, spec: VehicleSpec) -> dict:
         comp = {"emission_cut_pct_range": [min(vals), max(vals)] if vals else None,
                 "emission_cut_pct_mean": sum(vals) / len(vals) if vals else None}
     notes = [f"vehicle {spec.name!r}: mass, yaw inertia, l_f/l_r, wheel radius and inertia and drag from the "
-             "vehicle file; seed 000's bicycle model runs at the STATIC axle loads (no longitudinal or lateral "
+             "vehicle file; Pham et al.'s bicycle model runs at the STATIC axle loads (no longitudinal or lateral "
              "load transfer, no downforce, no rolling resistance, no motor torque or power limits), so that the "
              "ev preset keeps the paper's results; ramp, step_steer and braking_turn carry load transfer and "
              "aero load"]

@@ -145,7 +145,7 @@ def braking_figure(result):
     axs[2].fill_between(lim, [0.95 * x for x in lim], [1.05 * x for x in lim], color="0.85", label="±5 %")
     axs[2].set_xscale("log")
     axs[2].set_yscale("log")
-    axs[2].set_xlabel("seed 000 Table 3 stopping distance [m]")
+    axs[2].set_xlabel("Pham et al. 2025, Table 3 stopping distance [m]")
     axs[2].set_ylabel("simulated stopping distance [m]")
     axs[2].legend(fontsize=8)
     fig.tight_layout()

@@ -147,8 +147,8 @@ class VehicleSpec:
         for key in ("wheel_radius", "wheel_inertia"):
             if getattr(f, key) != getattr(r, key):
                 raise DataError(f"vehicle {self.name!r}: front and rear {key} differ ({getattr(f, key):g} and "
-                                f"{getattr(r, key):g}); seed 000's scenarios (braking, straight, curved) model one "
-                                f"{key} for both axles: give equal values, or run ramp")
+                                f"{getattr(r, key):g}); the scenarios of Pham et al. (braking, straight, curved) "
+                                f"model one {key} for both axles: give equal values, or run ramp")
         return VehicleParams(mass=self.mass, yaw_inertia=self.yaw_inertia, lf=self.lf, lr=self.lr,
                              wheel_radius=f.wheel_radius, wheel_inertia=f.wheel_inertia,
                              drag=self.drag_coefficient)

@@ -6,7 +6,7 @@ effects, computed with the catalogue's own ``effects.lateral_force``.  That
 makes these cases right for *parameter-recovery* and report tests (a fitted
 catalogue coefficient can be compared with the one that made the data), and
 wrong for *validating* the diagnosis: data made by the very functions the
-diagnosis fits score it too well (issue 11).  The validation - truths written
+diagnosis fits score it too well.  The validation - truths written
 outside the catalogue, rig layouts with few sweeps, rates with confidence
 intervals, mutation checks - is :mod:`tyrefit.synthetic.validation`
 (``python -m tyrefit.synthetic.validation``); the suite runner that used to

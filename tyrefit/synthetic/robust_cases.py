@@ -1,4 +1,4 @@
-"""Fit cases that once gave a confident wrong tyre (issue 15), made from a clean, known tyre.
+"""Fit cases that can mislead a fit into a confident wrong tyre, made from a clean, known tyre.
 
 Each case starts from clean slip-angle sweeps of the PAC89 example set
 (:mod:`tyrefit.synthetic.pac89_example`: Fz 2-8 kN, camber -2/0/+2 deg,

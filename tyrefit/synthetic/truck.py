@@ -3,7 +3,7 @@
 **Everything this module writes is synthetic.**  No file in ``data/truck/`` is
 a measurement: each is computed from the documented "truth" below, with seeded
 noise, to stand in for the static tyre test rig (STTR) and dynamic tyre test
-rig (DTTR) programme of Komana, Els and Becker (seed 003) on a Goodyear
+rig (DTTR) programme of Komana, Els and Becker on a Goodyear
 Regional RHT 385/65R22.5 at 7.4 bar.  Two tyres are made, *A* and *B*, of the
 same size but with different grip, stiffness and contact patch, so that a
 static-to-rolling calibration found on A can be tried on B.
@@ -12,7 +12,7 @@ Files (``generate(out_dir)``), each starting with a ``# synthetic:`` line
 --------------------------------------------------------------------------
 ``tyre_{a,b}_patch.csv``
     contact patch ``load [kg]``, ``pressure [bar]``, ``length [mm]``,
-    ``width [mm]``, ``area [cm2]`` at 500-10000 kg (the seed's 12 loads) and
+    ``width [mm]``, ``area [cm2]`` at 500-10000 kg (the 12 loads of Komana et al.) and
     5.9, 7.4, 9.0 bar.
 ``tyre_{a,b}_vertical.csv``
     vertical stiffness: ``run``, ``pressure [bar]``, ``phase`` (+1 load,
@@ -28,13 +28,13 @@ Files (``generate(out_dir)``), each starting with a ``# synthetic:`` line
     1100, 2200, 3200, 4400, 6000 kg: ``run``, ``load [kg]``, ``pressure
     [bar]``, ``speed [km/h]``, ``slip_angle [deg]``, ``fy [N]``, ``fz [N]``.
     ISO-W signs: a positive slip angle gives a negative ``fy``.  Only positive
-    slip angles are swept, as the DTTR of seed 003 does (0-12 deg).
+    slip angles are swept, as the DTTR of Komana et al. does (0-12 deg).
 ``truth.json``
     the parameters below, so tests and reports can compare fits with them.
 
 The truth
 ---------
-*Contact patch* (seed 003, Sec. 4.1, Fig. 2).  At the reference pressure
+*Contact patch* (Komana et al., Sec. 4.1, Fig. 2).  At the reference pressure
 p_ref = 7.4 bar, length and area are two-gradient piecewise-linear in the load
 F with a break at the shoulder load F_b (the load at which the patch reaches
 the tyre shoulders, 4800 kg for A)::
@@ -96,7 +96,7 @@ loaded radius, since the rim also rolls a little), and the measured Fz falls
 by the vertical stiffness times that.  At the static peak (the maximum of mu) the
 patch breaks loose; the friction then decays over 4 mm of further travel to
 the sliding level mu_peak sin(pi C / 2) -- the Magic-Formula asymptote that
-Eq. 2 of seed 003 reads off the sliding plateau -- while the carcass springs
+Eq. 2 of Komana et al. reads off the sliding plateau -- while the carcass springs
 back in proportion to the force.  Noise: 0.1 mm, 50 N + 0.5 % on Fy, 60 N on
 Fz, and 1 % stick-slip scatter while sliding.
 
@@ -137,11 +137,11 @@ __all__ = [
     "generate",
 ]
 
-#: contact-patch and vertical-test loads of seed 003, Sec. 4 [kg]
+#: contact-patch and vertical-test loads of Komana et al., Sec. 4 [kg]
 PATCH_LOADS_KG = (500, 1000, 2100, 3200, 3835, 4300, 5235, 6500, 7000, 8000, 9000, 10000)
-#: inflation pressures of seed 003 [bar]
+#: inflation pressures of Komana et al. [bar]
 PRESSURES_BAR = (5.9, 7.4, 9.0)
-#: STTR lateral-test loads of seed 003, Sec. 4.2 [kg]
+#: STTR lateral-test loads of Komana et al., Sec. 4.2 [kg]
 STATIC_LOADS_KG = (500, 1100, 2200, 3200, 4400, 6000)
 #: DTTR loads (a subset; the trailer axle cannot be unloaded to 500 kg) [kg]
 DYNAMIC_LOADS_KG = (1100, 2200, 3200, 4400, 6000)
@@ -460,7 +460,8 @@ _README = """# data/truck — synthetic truck-tyre rig data
 parameters in that module's docstring and in `truth.json`). No file here is a
 measurement. Two 385/65R22.5 tyres, A and B, with different grip, stiffness and
 contact patch, stand in for the static (STTR) and dynamic (DTTR) rig programme of
-Komana, Els and Becker (seed 003).
+Komana, Els and Becker, *Cost efficient tyre testing, modelling and validation for
+PBS assessments*.
 
 | file | test |
 |---|---|

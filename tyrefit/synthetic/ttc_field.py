@@ -4,8 +4,8 @@ Nothing written here is a measurement, and nothing comes from the FSAE Tire
 Test Consortium: real TTC records cannot be shipped.  The generator imitates
 the *layout* and the *difficulties* of a TTC pair of a 16x7.5-10 FSAE slick -
 a cornering record and a drive/brake record of the same tyre - so that a
-Magic Formula fit can be judged against the targets of issue 23
-(``benchmarks/ttc_field_judge.py``).
+Magic Formula fit can be judged against the RMSE and friction targets set
+for real TTC records (``benchmarks/ttc_field_judge.py``).
 
 :func:`make_pair` gives ``(cornering, drivebrake)`` DataFrames (SI, ISO-W; the
 recorded channels plus set-point and noise-free columns, see

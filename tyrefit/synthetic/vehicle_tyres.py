@@ -1,7 +1,7 @@
-"""Synthetic data for the tyre-emission vehicle simulation (seed 000).
+"""Synthetic data for the tyre-emission vehicle simulation (Pham et al. 2025).
 
 **Everything this module writes is synthetic.**  No file in ``data/sim/`` is
-a measurement.  Seed 000 (Pham, Hamedmoghadam, Shorten) used MATLAB's
+a measurement.  Pham, Hamedmoghadam and Shorten (2025) used MATLAB's
 "Mid-size passenger car 235/45R18" (soft, high grip, high wear) and "Light
 passenger car 205/60R15" (hard, low grip, low wear) tyres, NHTSA UTQG 2024
 treadwear grades with Tire Rack stopping distances, and particle counts of
@@ -36,23 +36,23 @@ The truth
 coefficients :data:`SOFT` and :data:`HARD` (PAC89 units: kN, deg, %).  At the
 static load of the default vehicle (about 4.4 kN per tyre) the soft tyre peaks
 at mu_x = 1.158 near 9 % slip and mu_y = 1.083 near 7 deg; the hard tyre
-at mu_x = 0.944 near 11 % slip (hard tyres peak at larger slip, as seed 000
-notes) and mu_y = 0.883 near 8 deg: a hard/soft peak ratio of 0.815,
-the ratio seed 000's Table 3 implies (low-wear/base deceleration 9.8/10.8 =
+at mu_x = 0.944 near 11 % slip (hard tyres peak at larger slip, as Pham et al.
+note) and mu_y = 0.883 near 8 deg: a hard/soft peak ratio of 0.815,
+the ratio Table 3 of Pham et al. implies (low-wear/base deceleration 9.8/10.8 =
 (1 + r)/2).  Friction falls with load (D = b1 Fz^2 + b2 Fz with b1 < 0).
 Small conicity offsets (a10, a13) are included, as real tyres have them.
 Noise: Gaussian, 0.6 % of the sweep's peak force, plus 0.5 % scatter on the
 measured load.
 
-*Treadwear and traction* follow seed 000's Eq. 42, mu = a TW^-b with
+*Treadwear and traction* follow Eq. 42 of Pham et al., mu = a TW^-b with
 a = 2.20, b = 0.145 (HPwizard's published law is a = 2.25, b = 0.15), with
 2 % lognormal scatter of mu.  Each tyre's stopping distance from 50 mph is
 then Eq. 15 with HPwizard's K = 6.58e-5 s^2/m^2 and f_r = 0.013, rounded to
 0.1 ft as Tire Rack reports it.
 
 *Emission* per tyre is N(F) = a (F - F0)^2 + N_min with a = 0.012
-(#/s)/N^2, F0 = 500 N (the minimum is at a non-zero force, as in seed 000's
-Fig. 6) and N_min = 0 (seed 000's constrained fit touches zero at its
+(#/s)/N^2, F0 = 500 N (the minimum is at a non-zero force, as in Fig. 6 of
+Pham et al.) and N_min = 0 (their constrained fit touches zero at its
 minimum), with 10 % lognormal noise plus a background count |N(0, 40)| #/s,
 24 braking and 24 traction points over 20 N <= |F| <= 2.5 kN.  In Eq. 14's
 form N = a F^2 + b F + c this is a = 0.012, b = -12.0, c = 3000.
@@ -131,7 +131,7 @@ SLIP_RATIOS = np.round(np.arange(-0.30, 0.30001, 0.01), 6)
 FORCE_NOISE = 0.006      # of the sweep's peak force
 LOAD_NOISE = 0.005       # relative scatter of the measured load
 
-#: treadwear-traction truth (seed 000 Eq. 42 form), stopping-distance law (Eq. 15)
+#: treadwear-traction truth (Pham et al., Eq. 42 form), stopping-distance law (Eq. 15)
 UTQG_TRUTH = {"a": 2.20, "b": 0.145, "scatter": 0.02, "K": 6.58e-5, "f_r": 0.013,
               "initial_speed_mph": 50.0, "seed": 67}
 
@@ -226,7 +226,7 @@ def utqg_table(rng: np.random.Generator | None = None) -> pd.DataFrame:
     mu = t["a"] * tw ** (-t["b"]) * np.exp(t["scatter"] * rng.standard_normal(tw.size))
     v0 = t["initial_speed_mph"] * 0.44704
     K, fr = t["K"], t["f_r"]
-    d = np.log1p(K * v0**2 / (mu + fr)) / (2.0 * G * K)          # seed 000 Eq. 15
+    d = np.log1p(K * v0**2 / (mu + fr)) / (2.0 * G * K)          # Pham et al., Eq. 15
     return pd.DataFrame({"name": _UTQG_NAMES, "treadwear [-]": tw.astype(int),
                          "stopping_distance [ft]": np.round(d / 0.3048, 1),
                          "initial_speed [mph]": t["initial_speed_mph"]})
@@ -267,7 +267,7 @@ def truth_dict() -> dict:
     }
 
 
-_README = """# data/sim — synthetic inputs of the tyre-emission simulation (seed 000)
+_README = """# data/sim — synthetic inputs of the tyre-emission simulation (Pham et al. 2025)
 
 Everything here is **synthetic**, made by `tyrefit.synthetic.vehicle_tyres`
 (`python -m tyrefit.synthetic --only sim`); its module docstring documents the

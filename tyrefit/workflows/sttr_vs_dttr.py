@@ -78,7 +78,7 @@ class StudyResult:
 
     # -- verdicts ------------------------------------------------------------------------
     def checks(self, limit_pct: float = 5.0, ratio: float = 2.0) -> dict:
-        """The issue's acceptance numbers: calibrated STTR within ``limit_pct`` at every load and
+        """The study's acceptance numbers: calibrated STTR within ``limit_pct`` at every load and
         at least ``ratio`` times closer than the uncalibrated conversion."""
         t = self.table
         cal = t["sttr_calibrated vs data [%]"].to_numpy()
@@ -118,7 +118,7 @@ class StudyResult:
         r.p(f"Tyre {tgt}'s STTR model (calibrated Eq. 1) is within {c['worst_calibrated_pct']:.2f} % of its "
             f"dynamic data at every dynamic-test load (mean |Δμ| / μ_peak over 0-12 deg; limit "
             f"{c['limit_pct']:g} %): it captures the DTTR measurements within {c['agreement_pct']:.1f} % "
-            f"(the seed's 'within 90 %', as a number). The uncalibrated conversion (f = 1) is "
+            f"(Komana et al.'s 'within 90 %', as a number). The uncalibrated conversion (f = 1) is "
             f"{c['mean_ratio']:.1f} times further off on average (at least "
             f"{c['min_ratio_uncalibrated_over_calibrated']:.1f} times at every load).",
             cls="ok" if ok else "bad")

@@ -1,4 +1,4 @@
-"""A validation of ``tyrefit diagnose`` that is not circular (issue 11, item 4).
+"""A validation of ``tyrefit diagnose`` that is not circular: its truths are not the catalogue's own forms.
 
 **Synthetic.**  :mod:`.truth` writes a truth tyre and its effects in forms the
 diagnose catalogue does not contain (no call into :mod:`tyrefit.effects` or

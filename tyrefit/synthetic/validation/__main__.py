@@ -71,7 +71,7 @@ def main(argv=None) -> int:
     head, sep, table = md.partition("| layout | noise |")
     md = head + "## Summary\n\n" + summary_markdown(res) + "\n## By layout, noise model and truth\n\n" + sep + table
     if checks:
-        md += "\nIssue 11 targets (one sweep per load) and the invariants of every layout:\n\n" + targets_markdown(checks)
+        md += "\nDiagnosis targets (one sweep per load) and the invariants of every layout:\n\n" + targets_markdown(checks)
     if args.base_fit:
         md += "\nStart-model fit to the noise-free truth, RMSE / sigma:\n\n"
         for lay, d in meta["start-model fit to noise-free truth, RMSE / sigma"].items():

@@ -7,10 +7,10 @@ the same data, bit for bit.
 
 Layouts (passenger tyre, rated load 6000 N, 220 kPa unless varied)
 ------------------------------------------------------------------
-``load5``      5 loads 2.0-8.0 kN, one sweep -12 -> +12 deg each (seed 003's DTTR test: five loads,
+``load5``      5 loads 2.0-8.0 kN, one sweep -12 -> +12 deg each (the DTTR test of Komana et al.: five loads,
                one sweep each)
 ``load6``      6 loads 2.0-8.0 kN, one sweep each (a supplier's dynamic-rig sheet) - the layout of
-               the issue's targets
+               the diagnosis targets
 ``load7``      7 loads 2.0-8.0 kN, one sweep each
 ``onesided6``  6 loads, one sweep 0 -> +12 deg each (a one-sided rig programme: no shift is testable)
 ``grid8``      4 loads x cambers 0, +4 deg
@@ -87,7 +87,7 @@ class Layout:
 _L6 = (2000.0, 3200.0, 4400.0, 5600.0, 6800.0, 8000.0)
 LAYOUTS: dict[str, Layout] = {
     "load5": Layout("load5", (2000.0, 3500.0, 5000.0, 6500.0, 8000.0),
-                    description="5 loads, one -12..12 deg sweep each (seed 003 DTTR)"),
+                    description="5 loads, one -12..12 deg sweep each (the DTTR test of Komana et al.)"),
     "load6": Layout("load6", _L6, description="6 loads, one -12..12 deg sweep each (supplier's rig sheet)"),
     "load7": Layout("load7", tuple(1000.0 * np.arange(2, 9)), description="7 loads, one -12..12 deg sweep each"),
     "onesided6": Layout("onesided6", _L6, slip_min_deg=0.0, description="6 loads, one 0..12 deg sweep each"),

@@ -1,6 +1,6 @@
 """What the data allow: the truth's own form refitted, scored like the diagnosis.
 
-The held-out target of issue 11 (held-out RMSE after the right effect
+The held-out target of the validation (held-out RMSE after the right effect
 <= 1.3 x the true noise) mixes two things: how well the diagnosis' model
 represents the truth, and how much six noisy sweeps can say about a sweep
 that is left out.  The second is a property of the layout and the noise, not
@@ -24,7 +24,7 @@ test (new load jitter and new noise of the same model,
 :func:`.cases.make_case` with ``repeat=1``; what a second rig run of the same
 tyre would show, its own noise included) and their RMS distance from the
 noise-free truth (a rerun's expected RMSE is sigma sqrt(1 + error^2), so the
-issue's 1.3 sigma is an error of 0.83 sigma).  :func:`truth_form_scores` gives
+target's 1.3 sigma is an error of 0.83 sigma).  :func:`truth_form_scores` gives
 the same two for the truth's own form refitted to every sweep.
 
 Only the one-sweep-per-load layouts (``load5``, ``load6``, ``load7``,

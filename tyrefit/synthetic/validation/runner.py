@@ -46,15 +46,15 @@ from .truth import EFFECT_FAMILY, EFFECTS
 __all__ = ["summary_markdown", "oracle", "check_targets", "invariant_checks", "MUTATIONS", "mutated", "PLAN", "plan_cases", "run_case", "run", "rates", "markdown", "fingerprint", "wilson", "base_fit",
            "TARGETS"]
 
-#: issue 11's targets on the one-sweep-per-load layout
+#: the diagnosis targets on the one-sweep-per-load layout
 TARGETS = {"right_first": 0.95, "ratio": 1.3, "false_alarm": 0.05,
            # share of cases whose start-model held-out RMSE exceeds its in-sample RMSE on the same sweeps (a
-           # fit predicts its own data better than data it has not seen; not a target of the issue but the
+           # fit predicts its own data better than data it has not seen; not a diagnosis target but the
            # check that the held-out evidence is held out)
            "out_of_sample": 0.9}
 
 #: default numbers of seeds per (layout, noise): (nulls, cases per effect).  Sized for one run of about an hour
-#: on two shared cores (a diagnosis takes 1.5-3 s on load6, 3-6 s on grid24, ~15 s on grid60): the issue's
+#: on two shared cores (a diagnosis takes 1.5-3 s on load6, 3-6 s on grid24, ~15 s on grid60):
 #: 200 nulls per noise model on the 6-sweep layout, enough elsewhere to state a rate with its interval
 PLAN: dict[str, tuple[int, int]] = {
     "load6": (200, 20),
@@ -100,7 +100,7 @@ def git_commit() -> str | None:
         return None
 
 
-#: deliberate breakages of the engine that a validation worth the name must catch (issue 11)
+#: deliberate breakages of the engine that a validation worth the name must catch
 MUTATIONS = {
     "insample": "held-out evidence replaced by in-sample: every refit on a subset (fold, level) fits all the data",
     "noconfirm": "the confirmation guards removed: every screened candidate that is refitted is confirmed",
@@ -391,13 +391,13 @@ def rates(rows: list[dict]) -> dict:
     return {"groups": out}
 
 
-#: the issue's families on one-sweep-per-load data -> the validation effects pooled under each
+#: the target families on one-sweep-per-load data -> the validation effects pooled under each
 TARGET_FAMILIES = {"load_friction": ("load_friction_power", "load_friction_tanh"), "curvature_load": ("curvature",),
                    "offsets": ("offsets",), "overload": ("overload",)}
 
 
 def check_targets(rows: list[dict], layout: str = "load6") -> list[dict]:
-    """Issue 11's targets on ``layout``, one check per (noise, family) and per noise for the nulls.
+    """The diagnosis targets on ``layout``, one check per (noise, family) and per noise for the nulls.
 
     Effect checks pool the family's validation effects: right family first in
     >= 95 % of sets, and held-out RMSE after it (the step that added it) and

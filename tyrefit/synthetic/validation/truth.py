@@ -4,9 +4,9 @@
 :mod:`tyrefit.effects` or :mod:`tyrefit.models.pac89`: the curve and every law
 below are written afresh, in forms the diagnose catalogue does *not* contain,
 so that a diagnosis scored on these data cannot win by refitting the very
-function that generated them (issue 11: the old suite in
-:mod:`tyrefit.synthetic.hidden` generated its truths with the catalogue's own
-``effects.lateral_force`` and its base was exactly the start model).
+function that generated them (the cases of
+:mod:`tyrefit.synthetic.hidden` take their truths from the catalogue's own
+``effects.lateral_force``, and their base is exactly the start model).
 
 The tyre
 --------
@@ -62,7 +62,7 @@ apart from are in brackets)
                          cornering stiffness by about 1 % over 2-8 kN) [a6: E linear in Fz, + c dfz^2]
 ``overload``             a smooth knee of grip past the rated load:
                          mu *= 1 - c w ln(1 + exp((Fz - F_r) / w)) / F_r, c = 0.5, w = 480 N
-                         (-8 % at 6.8 kN, -16 % at 8 kN; seed 003 Sec. 4.2 describes grip
+                         (-8 % at 6.8 kN, -16 % at 8 kN; Komana et al., Sec. 4.2, describe grip
                          falling above the rated load) [a hinge, linear past F_r, rounded by a
                          quadratic blend over +-10 % of F_r or a fitted width: not a softplus]
 ``offsets``              ply steer as a slip-angle offset alpha_ps = 0.15 deg, conicity as a
