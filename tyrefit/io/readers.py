@@ -476,7 +476,7 @@ def _finish(t: RawTable, p: Path, convention: str, kind: str | None) -> Dataset:
                     and nm.dimension_of(u) == "per_distance"]
     for c in per_distance:  # particles [#/km]: a rate only with the speed it was measured at
         if "speed" not in data or data["speed"].dtype == object:
-            raise UnitError(f"{p}: column '{t.headers[c]}' is per distance, but the emission law N(F) (seed 000 "
+            raise UnitError(f"{p}: column '{t.headers[c]}' is per distance, but the emission law N(F) (Pham et al. 2025 "
                             "Eq. 14) is particles per second; add a 'speed [km/h]' column to convert, or give the "
                             "rate in [#/s]")
         data[c] = data[c] * np.abs(data["speed"])  # [#/m] * [m/s] = [#/s]

@@ -251,7 +251,7 @@ class CurveCharacteristicSlipLimit:
         return CharacteristicSlipLimit(self.characteristic_slip(axle))(axle)
 
     def describe(self) -> str:
-        return f"characteristic slip of the tyre's own curve (seed 002 Eq. 16, nu_c = {self.nu_c:g}), capped at peak"
+        return f"characteristic slip of the tyre's own curve (Ghasemi et al. 2021, Eq. 16, nu_c = {self.nu_c:g}), capped at peak"
 
 
 def resolve_slip_limit(tyre, default=None):
