@@ -81,7 +81,7 @@ print("Fy at 4 kN and -4, 0, +4 deg:", np.round(f["fy"], 1), "N")
 
 # %% [markdown]
 # ## 5. Simulate a vehicle on it
-# The paper's emergency braking (seed 000) on the default car, then a steady-state constant-radius
+# The emergency braking of Pham et al. 2025 on the default car, then a steady-state constant-radius
 # ramp to the limit. Every run says where the tyres worked against the envelope they were fitted in.
 
 # %%
