@@ -25,7 +25,8 @@ import math
 import numpy as np
 
 from ..errors import ValueRangeError
-from ..io.outputs import check_outputs, write_text
+from ..io.outputs import write_text
+from .outputs import check_outputs
 from ..io.report import Report
 from ..sim import vehicle7dof as v7
 from ..sim.adhesion import Manoeuvre, run_experiment

@@ -16,7 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.outputs import check_outputs, write_text
+from ..io.outputs import write_text
+from .outputs import check_outputs
 from ..compare.tyres import compare_tyres
 from ..io.readers import read_data
 from ..io.report import Report

@@ -19,7 +19,8 @@ from ..errors import DataError
 from ..io.facets import channel_levels, format_condition, format_levels, sweep_conditions
 from ..fitting.result import unfitted_figures
 from ..io.chrono_json import chrono_dict
-from ..io.outputs import check_output, check_outputs, write_text
+from ..io.outputs import check_output, write_text
+from .outputs import check_outputs
 from ..io.report import Report
 from ..workflows.fit import _effect_ids, fit, fit_pac89_record, read_checked
 from .fit_mf import print_plausibility, run_mf

@@ -13,7 +13,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import DataError
-from ..io.outputs import check_outputs
+from .outputs import check_outputs
 from ..io.readers import read_data
 from ..io.report import Report
 from ..nomenclature import G0

@@ -21,7 +21,8 @@ import math
 import numpy as np
 
 from ..errors import DataError
-from ..io.outputs import check_outputs, write_text
+from ..io.outputs import write_text
+from .outputs import check_outputs
 from ..io.readers import read_data
 from ..io.report import Report
 from ..models import slip as sl

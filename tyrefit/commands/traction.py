@@ -22,7 +22,8 @@ import json
 
 import numpy as np
 
-from ..io.outputs import check_outputs, write_text
+from ..io.outputs import write_text
+from .outputs import check_outputs
 from ..io.readers import read_data
 from ..io.report import Report
 from ..sim.traction import traction_from_data

@@ -48,7 +48,7 @@ from pathlib import Path
 
 from ..errors import OutputError, OutputExistsError, option
 
-__all__ = ["check_output", "check_outputs", "atomic_write", "write_text", "write_bytes", "staged_dir",
+__all__ = ["check_output", "atomic_write", "write_text", "write_bytes", "staged_dir",
            "output_run", "OutputRun", "current_run", "MANIFEST", "os_error_message", "read_manifest"]
 
 #: name of the manifest tyrefit keeps in every report folder it writes
@@ -206,30 +206,6 @@ def check_report_dir(path: str | os.PathLike, force: bool = False) -> Path:
                                     f"{option('force', flag=True)} to replace "
                                     f"tyrefit's own files in it{extra}")
     return p
-
-
-def check_outputs(args, files=("out", "json"), reports=("report",)) -> None:
-    """Check a command's outputs before it does any work.
-
-    ``files`` name ``args`` attributes holding output files, ``reports``
-    attributes holding report folders; attributes that are missing or None
-    are skipped.  Honours ``args.force``.  Two outputs naming the same file
-    are refused.
-    """
-    force = bool(getattr(args, "force", False))
-    seen: dict[Path, str] = {}
-    for name in files:
-        v = getattr(args, name, None)
-        if v:
-            r = _real(v)
-            if r in seen:
-                raise OutputError(f"--{name} {v}: the same file as --{seen[r]}; give each output its own name")
-            seen[r] = name
-            check_output(v, force)
-    for name in reports:
-        v = getattr(args, name, None)
-        if v:
-            check_report_dir(v, force)
 
 
 # --------------------------------------------------------------------------- the run (transaction)
