@@ -130,3 +130,102 @@ def test_turning_points_are_the_extremes_of_a_noisy_triangle_sweep():
     want = [int(np.argmax(x[:96])), 96 + int(np.argmin(x[96:192])), 192 + int(np.argmax(x[192:]))]
     assert want[0] in (47, 48, 49) and want[1] in (143, 144, 145) and want[2] in (239, 240, 241)
     assert _turning_points(x, 3.0).tolist() == want
+
+
+# ------------------------------------------------------------------------------ tyrefit/fitting/engine.py
+# (issue 25's --sample 216 --seed 15 redrawn on the code of bb25c64: engine.py changed in 2be0732 and bed5945)
+def _lateral_only(**kw):
+    """Lateral sweeps (3 and 6 kN, zero camber) of the PAC89 example tyre, without the aligning moment."""
+    from tyrefit.synthetic.pac89_example import lateral_sweeps
+
+    return lateral_sweeps(loads=(3000.0, 6000.0), cambers_deg=(0.0,), seed=5, **kw).drop(columns=["mz"])
+
+
+def test_data_without_a_camber_column_are_fitted_at_zero_camber():
+    """engine.py [59] ``_frame`` (a missing camber column filled with 1 rad instead of 0).
+
+    Camber is optional in the fit's data: a rig record without it was run at zero camber.  The fitted tyre
+    then reproduces the data when evaluated at zero camber, also when a camber coefficient is held at a
+    non-zero value (a5, the camber fall of the cornering stiffness, from an earlier fit); its fitted camber
+    range is (0, 0) and its sweeps are listed at 0 deg.  The mutant fits the same data as if run at 57 deg:
+    a3 grows to make up for the camber factor 1 - a5 |gamma|, and the tyre at zero camber is far stiffer
+    than the data.
+    """
+    from tyrefit.fitting import fit_pac89
+    from tyrefit.models import pac89
+
+    d = _lateral_only()
+    r = fit_pac89(d.drop(columns=["camber"]), fixed={"a5": 0.01})
+    assert r.tyre.ranges["camber"] == (0.0, 0.0)
+    assert np.all(r.sweeps["camber"] == 0.0)
+    f = pac89.lateral_force(r.tyre.coefficients, d["fz"].to_numpy(), d["slip_angle"].to_numpy(), 0.0)
+    rmse = float(np.sqrt(np.mean((f - d["fy"].to_numpy()) ** 2)))
+    assert rmse < 1.2 * r.stats["lateral"]["noise_floor"], rmse
+    assert r.stats["lateral"]["rmse"] == pytest.approx(rmse, rel=1e-6)
+
+
+def test_the_reported_evaluation_count_is_the_number_of_model_evaluations(monkeypatch):
+    """engine.py [137] ``_fit_part`` (each start's stage-2 evaluations subtracted from the total).
+
+    ``FitResult.stats[part]['nfev']`` (the report's "evaluations") counts the residual evaluations of the
+    whole fit, all starts and the polish: it is positive and at most the number of times the fit evaluated
+    its model's residual (a few of those are the objective read at each start's end), and at least the sum
+    over the starts.  The mutant reports a negative count.
+    """
+    from tyrefit.fitting import engine, fit_pac89
+
+    calls = {"n": 0}
+    rows = engine._Problem.rows
+
+    def counted(self, theta):
+        calls["n"] += 1
+        return rows(self, theta)
+
+    monkeypatch.setattr(engine._Problem, "rows", counted)
+    r = fit_pac89(_lateral_only())
+    n = r.stats["lateral"]["nfev"]
+    starts = r._parts["lateral"].starts
+    assert len(starts) >= 2
+    assert sum(s["nfev"] for s in starts) <= n <= calls["n"], (n, calls["n"])
+    assert n >= 0.8 * calls["n"], (n, calls["n"])
+
+
+def test_robust_cost_scales_each_sweep_by_its_own_noise_below_one_unit():
+    """engine.py [362] ``robust_scale`` (a sweep's own noise used only above 1 N or N*m).
+
+    The robust costs measure each point's residual against its own sweep's noise (point_scatter's per-sweep
+    value) times HUBER_K; only sweeps too short for an estimate take the pooled value.  Aligning moments
+    have noise well below 1 N*m (here 0.29 and 0.75 N*m in the two sweeps): each sweep keeps its own scale,
+    so a residual of 1 N*m counts as 3.4 sigma in the quiet sweep and 1.3 sigma in the noisy one.  The
+    mutant gives both sweeps the pooled 0.57 N*m.
+    """
+    from tyrefit.fitting.engine import HUBER_K, point_scatter, prepare_data, robust_scale
+    from tyrefit.synthetic.pac89_example import lateral_sweeps
+
+    parts, _ = prepare_data(lateral_sweeps(loads=(3000.0, 6000.0), cambers_deg=(0.0,), seed=5))
+    d = parts["aligning"]
+    pooled, per = point_scatter(d)
+    assert len(per) == 2 and per.max() < 1.0 and per.max() > 2 * per.min()
+    sigma = robust_scale(d) * d.norm / HUBER_K
+    for run, s in per.items():
+        np.testing.assert_allclose(sigma[d.run == run], s, rtol=1e-12)
+
+
+def test_a_tyre_whose_force_crosses_zero_only_at_the_end_of_the_sweep_is_fitted():
+    """engine.py [475] ``_check_orientation`` (the negative side checked from -xmax to -0.5 rad).
+
+    The turnover check refuses a fitted curve whose force has the wrong sign over the outer half of the
+    tested slip range (C > 2 turns the PAC89 curve over past its peak).  It judges the curve where it was
+    tested: a tyre with C = 2.8 and E = -1 (a steep fall past the 4 deg peak) whose force crosses zero at
+    11-11.6 deg of a +-12 deg sweep keeps the ISO-W sign over most of the outer half, and its fit reproduces
+    the data to the noise floor.  The mutant judges the negative side out to 28.6 deg, beyond the data,
+    where the curve has turned over, and refuses the fit ("wrong sign beyond half the slip range").
+    """
+    from tyrefit.fitting import fit_pac89
+    from tyrefit.synthetic.pac89_example import EXAMPLE
+
+    d = _lateral_only(coefficients=dict(EXAMPLE, a0=2.8, a6=0.0, a7=-1.0))
+    r = fit_pac89(d)
+    st = r.stats["lateral"]
+    assert st["rmse"] < 1.05 * st["noise_floor"]
+    assert r.tyre.coefficients["a0"] == pytest.approx(2.8, abs=0.05)
