@@ -300,7 +300,7 @@ def test_l1_cost_resists_outliers_better_than_l2():
 
 
 def test_constraints_checked_on_the_grid_of_the_fitted_range(full_fit):
-    from tyrefit.fitting.mf import _factors
+    from tyrefit.fitting.mf_contract import _factors
 
     _, r = full_fit
     cons = [c for f in r.stages.values() for c in f.constraints]
@@ -357,7 +357,7 @@ def test_kappa_induced_side_force_keeps_one_lobe_between_the_samples(combined_fy
         cons = {c["constraint"]: c for c in r.stages["Fy"].constraints}
         assert cons[SVYK_LOBE]["holds"] and phase <= math.pi + 1e-6, (seed, r.params["RVY5"], r.params["RVY6"])
     # the constraint tells the alias the old fit took (seed 21) from the generating set and the published ones
-    from tyrefit.fitting.mf import _factors
+    from tyrefit.fitting.mf_contract import _factors
 
     def lobe(rvy5, rvy6):
         fz = np.full(2, FNOMIN)

@@ -293,7 +293,7 @@ def _grid_points():
 
 def test_the_fx0_friction_constraint_is_pacejkas_mu_x():
     # _factors Fx0: mu_x (Pacejka 2012, 4.E13) = (PDX1 + PDX2 dfz)(1 + PPX3 dpi + PPX4 dpi^2)(1 - PDX3 gamma^2)
-    from tyrefit.fitting.mf import _factors
+    from tyrefit.fitting.mf_contract import _factors
     from tyrefit.models import mf61
 
     p = {k.upper(): float(v) for k, v in mf61.neutral().items()}
@@ -307,7 +307,7 @@ def test_the_fx0_friction_constraint_is_pacejkas_mu_x():
 
 def test_the_fy0_friction_constraint_is_pacejkas_mu_y():
     # _factors Fy0: mu_y (Pacejka 2012, 4.E23) = (PDY1 + PDY2 dfz)(1 + PPY3 dpi + PPY4 dpi^2)(1 - PDY3 gamma^2)
-    from tyrefit.fitting.mf import _factors
+    from tyrefit.fitting.mf_contract import _factors
     from tyrefit.models import mf61
 
     p = {k.upper(): float(v) for k, v in mf61.neutral().items()}
