@@ -59,10 +59,20 @@ def residualise(X: np.ndarray, J: np.ndarray) -> np.ndarray:
     Uses the small normal equations (column-scaled, pseudo-inverse) rather
     than a QR of the tall matrix: far faster on a busy multi-threaded BLAS.
     """
+    return _residualiser(J)(X)
+
+
+def _residualiser(J: np.ndarray):
+    """:func:`residualise` against one J for any number of X: the scaled J and its pseudo-inverse made once."""
     norms = np.linalg.norm(J, axis=0)
     Js = J / np.where(norms > 0, norms, 1.0)
     A = Js.T @ Js
-    return X - Js @ (np.linalg.pinv(A, rcond=1e-12, hermitian=True) @ (Js.T @ X))
+    Ap = np.linalg.pinv(A, rcond=1e-12, hermitian=True)
+
+    def off(X: np.ndarray) -> np.ndarray:
+        return X - Js @ (Ap @ (Js.T @ X))
+
+    return off
 
 
 def cluster_sums(values: np.ndarray, cluster: np.ndarray, n_clusters: int) -> np.ndarray:
@@ -176,8 +186,9 @@ def score_test_groups(J_model: np.ndarray, groups: list[np.ndarray], resid: np.n
     r = np.asarray(resid, dtype=float)
     W = rng.choice(np.array([-1.0, 1.0]), size=(n_boot, n_clusters))
     T, Tb, dfs = [], [], []
+    off = _residualiser(J_model)
     for X in groups:
-        Jt = residualise(X, J_model)
+        Jt = off(X)
         S = cluster_sums(Jt * r[:, None], cluster, n_clusters)
         Vp = np.linalg.pinv(S.T @ S, rcond=1e-10, hermitian=True)
         s = S.sum(axis=0)
@@ -402,15 +413,23 @@ class SweepLayout:
         self.lag_counts = np.clip(self.n[:, None] - np.arange(self.n_max)[None, :], 0, None).astype(float)
         self._slot = np.empty(self.N, dtype=int)  # each point's place in the flattened (G, n_max) frame
         self._slot[self.index[self.mask]] = np.flatnonzero(self.mask.ravel())
+        self._take = np.where(self.mask, self.index, 0).ravel()
+        #: every sweep has n_max points and the points are stored sweep by sweep in order: the frame is a reshape
+        self.full = bool(self.mask.all())
+        self.whole = self.full and bool(np.array_equal(self._slot, np.arange(self.N)))
 
     def padded(self, x: np.ndarray) -> np.ndarray:
-        """(..., N) -> (..., G, n_max), zero past the end of each sweep."""
-        out = np.take(x, np.where(self.mask, self.index, 0), axis=-1)
-        return np.where(self.mask, out, 0.0)
+        """(..., N) -> (..., G, n_max), zero past the end of each sweep (a view of ``x`` when :attr:`whole`)."""
+        shape = x.shape[:-1] + (self.G, self.n_max)
+        if self.whole:
+            return x.reshape(shape)
+        out = np.take(x, self._take, axis=-1).reshape(shape)
+        return out if self.full else np.where(self.mask, out, 0.0)
 
     def unpad(self, xp: np.ndarray) -> np.ndarray:
-        """(..., G, n_max) -> (..., N)."""
-        return np.take(xp.reshape(xp.shape[:-2] + (-1,)), self._slot, axis=-1)
+        """(..., G, n_max) -> (..., N) (a view of ``xp`` when :attr:`whole`)."""
+        flat = xp.reshape(xp.shape[:-2] + (-1,))
+        return flat if self.whole else np.take(flat, self._slot, axis=-1)
 
 
 @dataclass
@@ -474,9 +493,12 @@ def estimate_noise(resid: np.ndarray, layout: SweepLayout, dof_within: float = 0
     rp = layout.padded(r)  # (B, G, H)
     n = layout.n.astype(float)
     m = rp.sum(axis=-1) / n  # sweep means (B, G)
-    d = np.where(layout.mask, rp - m[..., None], 0.0)
-    ss = np.sum(d * d, axis=-1)  # (B, G)
-    lag1 = np.sum(d[..., 1:] * d[..., :-1] * layout.mask[:, 1:], axis=-1)
+    d = rp - m[..., None]
+    if not layout.full:
+        d = np.where(layout.mask, d, 0.0)  # zero past the end of a sweep: no lag product reaches there
+    # sums along each sweep without (B, G, H) temporaries
+    ss = np.einsum("...h,...h->...", d, d)  # (B, G)
+    lag1 = np.einsum("...h,...h->...", d[..., 1:], d[..., :-1])
     rho = np.sum(lag1, axis=-1) / np.maximum(np.sum(ss, axis=-1), 1e-300)
     rho = np.clip(rho + (1.0 + 3.0 * rho) / max(np.mean(n), 2.0), -0.5, 0.97)
     f = _ar_f(layout, rho)  # (B, G)
@@ -536,16 +558,29 @@ class Screen:
 
 def _minp_adjust(T: np.ndarray, Tb: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per-candidate and min-p adjusted p-values from observed T (K,) and draws Tb (K, B); critical T at alpha."""
+    p_obs, p_adj, min_boot = _minp(T, Tb)
+    return p_obs, p_adj, _critical(Tb, min_boot, alpha)
+
+
+def _minp(T: np.ndarray, Tb: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_minp_adjust` without the critical values: p-values, adjusted p-values, sorted min-p of the draws."""
     K, B = Tb.shape
     p_obs = (1.0 + np.sum(Tb >= T[:, None] * (1 - 1e-9), axis=1)) / (B + 1.0)
-    ranks = np.argsort(np.argsort(-Tb, axis=1, kind="stable"), axis=1)
+    # each draw's rank within its candidate (0 = largest; ties in draw order): the inverse of the stable sort
+    order = np.argsort(-Tb, axis=1, kind="stable")
+    ranks = np.empty((K, B), dtype=np.intp)
+    ranks[np.arange(K)[:, None], order] = np.arange(B)
     p_boot = (1.0 + ranks) / (B + 1.0)
     min_boot = np.sort(p_boot.min(axis=0))
     p_adj = (1.0 + np.searchsorted(min_boot, p_obs * (1 + 1e-9), side="right")) / (B + 1.0)
-    # critical p: largest p with adjusted p < alpha; critical T per candidate: its draws' quantile there
+    return p_obs, np.maximum(p_adj, p_obs), min_boot
+
+
+def _critical(Tb: np.ndarray, min_boot: np.ndarray, alpha: float) -> np.ndarray:
+    """Critical T per candidate: its draws' quantile at the largest p whose adjusted p is below alpha."""
+    K, B = Tb.shape
     c = min_boot[max(int(np.floor(alpha * (B + 1))) - 2, 0)] if B else 0.0
-    crit = np.array([np.quantile(Tb[k], 1.0 - c) if c > 0 else np.inf for k in range(K)])
-    return p_obs, np.maximum(p_adj, p_obs), crit
+    return np.quantile(Tb, 1.0 - c, axis=1) if c > 0 else np.full(K, np.inf)
 
 
 #: cumulative draws after which a noise-model screening may stop (then ``n_boot``)
@@ -568,8 +603,11 @@ def decided(T: np.ndarray, Tb: np.ndarray, alpha: float, risk: float = DECIDED_R
     c is binomial (B, p) with p the exact adjusted p-value.  A candidate is settled when c is incompatible
     with p = alpha: P(C <= c) < ``risk`` (clearly below alpha) or P(C >= c) < ``risk`` (clearly above).
     """
-    B = Tb.shape[1]
-    _, padj, _ = _minp_adjust(T, Tb, alpha)
+    return _settled(_minp(T, Tb)[1], Tb.shape[1], alpha, risk)
+
+
+def _settled(padj: np.ndarray, B: int, alpha: float, risk: float = DECIDED_RISK) -> bool:
+    """:func:`decided` from the adjusted p-values ``padj`` of ``B`` draws."""
     c = np.rint(padj * (B + 1.0) - 1.0)
     below = bdtr(c, B, alpha) < risk
     above = (c >= 1) & (bdtrc(np.maximum(c - 1.0, 0.0), B, alpha) < risk)
@@ -587,6 +625,17 @@ def _pinv_quadratic(s: np.ndarray, V: np.ndarray, rcond: float) -> np.ndarray:
     inv = np.divide(1.0, w, out=np.zeros_like(w), where=np.abs(w) > cut)
     proj = (U.transpose(0, 2, 1) @ s[:, :, None])[:, :, 0]  # U' s
     return np.sum(inv * proj * proj, axis=1)
+
+
+def _pinv_each(mats: list, rcond: float) -> list:
+    """``np.linalg.pinv(m, rcond, hermitian=True)`` of every symmetric matrix in ``mats``, one call per size."""
+    out = [None] * len(mats)
+    for size in {m.shape[0] for m in mats}:
+        idx = [i for i, m in enumerate(mats) if m.shape[0] == size]
+        stacked = np.linalg.pinv(np.stack([mats[i] for i in idx]), rcond=rcond, hermitian=True)
+        for i, m in zip(idx, stacked):
+            out[i] = m
+    return out
 
 
 def projection_basis(A: np.ndarray, layout) -> tuple[np.ndarray, float, float]:
@@ -721,36 +770,30 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     """
     G = layout.G
     r = np.asarray(resid, dtype=float)
-    Jt = [residualise(X, J_model) for X in J_new]
+    off = _residualiser(J_model)
+    Jt = [off(X) for X in J_new]
     jmax = [np.max(np.abs(X), axis=0) for X in Jt]  # largest force change the model cannot mimic [N/unit]
     q = np.array([X.shape[1] for X in Jt])
     K = len(Jt)
     allJ = np.hstack(Jt) if K else np.zeros((layout.N, 0))
     s_obs = allJ.T @ r
     sl = np.r_[0, np.cumsum(q)]
-    dssr = np.empty(K)
-    fisher = []
-    for k in range(K):
-        info = Jt[k].T @ Jt[k]
-        sk = s_obs[sl[k]:sl[k + 1]]
-        dssr[k] = float(sk @ np.linalg.pinv(info, rcond=1e-12, hermitian=True) @ sk)
-        fisher.append(info)
+    fisher = [X.T @ X for X in Jt]
+    info_p = _pinv_each(fisher, 1e-12)
+    dssr = np.array([float(s_obs[sl[k]:sl[k + 1]] @ info_p[k] @ s_obs[sl[k]:sl[k + 1]]) for k in range(K)])
     if method == "auto":
         method = "flip" if G >= (min_flip_sweeps or MIN_FLIP_SWEEPS) else "noise"
     if method == "flip":
         W = rng.choice(np.array([-1.0, 1.0]), size=(n_boot, G))
         S = cluster_sums(allJ * r[:, None], layout.sweep, G)  # (G, sum q)
         Sb = W @ S
-        T, Tb, var = np.empty(K), np.empty((K, n_boot)), []
-        for k in range(K):
-            Sk = S[:, sl[k]:sl[k + 1]]
-            Vk = Sk.T @ Sk
-            Vp = np.linalg.pinv(Vk, rcond=1e-10, hermitian=True)
-            sk = Sk.sum(axis=0)
+        T, Tb = np.empty(K), np.empty((K, n_boot))
+        var = [S[:, sl[k]:sl[k + 1]].T @ S[:, sl[k]:sl[k + 1]] for k in range(K)]
+        for k, Vp in enumerate(_pinv_each(var, 1e-10)):
+            sk = S[:, sl[k]:sl[k + 1]].sum(axis=0)
             T[k] = float(sk @ Vp @ sk)
             sbk = Sb[:, sl[k]:sl[k + 1]]
             Tb[k] = np.einsum("bi,ij,bj->b", sbk, Vp, sbk)
-            var.append(Vk)
         p, padj, crit = _minp_adjust(T, Tb, alpha)
         return Screen(T, p, padj, dssr, q, crit, "sweep flips", G, None,
                       [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)], n_boot)
@@ -761,22 +804,26 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
     Q, dof_w, dof_b = projection_basis(np.hstack([J_model] + [X for X, k in zip(Jt, keep) if k]), layout)
     # variance of every candidate's score under a noise model: J~' Sigma J~ with Sigma_g = sd_g^2 rho^|i-j|
     # + tau^2, from lagged cross-products of J~ within each sweep
-    Jp = np.moveaxis(layout.padded(allJ.T), 0, -1)  # (G, H, sum q)
+    Jp = np.moveaxis(np.ascontiguousarray(layout.padded(allJ.T)), 0, -1)  # (G, H, sum q)
     H = layout.n_max
     pairs = [(sl[k] + i, sl[k] + j) for k in range(K) for i in range(q[k]) for j in range(q[k])]
     ia = np.array([a for a, _ in pairs], dtype=int)
     ib = np.array([b for _, b in pairs], dtype=int)
+    # pair (i, j) at lag h: sum_t J_i[t] J_j[t+h] + sum_t J_j[t] J_i[t+h], the second sum being pair (j, i)'s first
+    pair_at = np.r_[0, np.cumsum(q * q)]
+    swap = np.array([pair_at[k] + j * q[k] + i for k in range(K) for i in range(q[k]) for j in range(q[k])],
+                    dtype=int)
     lag = np.empty((G, H, len(pairs)))
+    Ja, Jb = Jp[:, :, ia], Jp[:, :, ib]
     for h in range(H):
-        x = np.sum(Jp[:, :H - h, ia] * Jp[:, h:, ib], axis=1)
-        if h > 0:
-            x = x + np.sum(Jp[:, :H - h, ib] * Jp[:, h:, ia], axis=1)
-        lag[:, h, :] = x
+        x = np.sum(Ja[:, :H - h] * Jb[:, h:], axis=1)
+        lag[:, h, :] = x + x[:, swap] if h > 0 else x
     colsum = Jp.sum(axis=1)  # (G, sum q)
     off = np.sum(colsum[:, ia] * colsum[:, ib], axis=0)  # (pairs,)
 
     def alt_resid(x):
-        return x - (x @ Q) @ Q.T
+        p = (x @ Q) @ Q.T
+        return np.subtract(x, p, out=p)
 
     noise_obs, noise = corrected_noise(r, Q, dof_w, dof_b, layout, rng)
     # the draws' sweep offsets: the larger of that tau and the start model's own (restricted under the null,
@@ -796,13 +843,9 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
         return w.reshape(B, -1) @ lag.reshape(-1, lag.shape[-1]) + (np.atleast_1d(nm.tau) ** 2)[:, None] * off[None, :]
 
     Vobs = variances(noise_obs)[0]
-    T, var = np.empty(K), []
-    pair_at = np.r_[0, np.cumsum(q * q)]
-    for k in range(K):
-        Vk = Vobs[pair_at[k]:pair_at[k + 1]].reshape(q[k], q[k])
-        sk = s_obs[sl[k]:sl[k + 1]]
-        T[k] = float(sk @ np.linalg.pinv(Vk, rcond=1e-10, hermitian=True) @ sk)
-        var.append(Vk)
+    var = [Vobs[pair_at[k]:pair_at[k + 1]].reshape(q[k], q[k]) for k in range(K)]
+    var_p = _pinv_each(var, 1e-10)
+    T = np.array([float(s_obs[sl[k]:sl[k + 1]] @ var_p[k] @ s_obs[sl[k]:sl[k + 1]]) for k in range(K)])
     # the draws in blocks (sequential Monte Carlo, after Besag & Clifford 1991): stop once every candidate's
     # adjusted p-value is clear of alpha by far more than its Monte Carlo error, at most n_boot draws
     blocks = []
@@ -817,9 +860,10 @@ def screen_candidates(J_model: np.ndarray, J_new: list[np.ndarray], resid: np.nd
             blk[k] = _pinv_quadratic(sb[:, sl[k]:sl[k + 1]], Vbk, 1e-10)
         blocks.append(blk)
         Tb = np.hstack(blocks)
-        if Tb.shape[1] < n_boot and decided(T, Tb, alpha):
+        p, padj, min_boot = _minp(T, Tb)
+        if Tb.shape[1] < n_boot and _settled(padj, Tb.shape[1], alpha):
             break
-    p, padj, crit = _minp_adjust(T, Tb, alpha)
+    crit = _critical(Tb, min_boot, alpha)
     return Screen(T, p, padj, dssr, q, crit, "noise-model bootstrap", G, noise,
                   [{"fisher": f, "var": v, "jmax": m} for f, v, m in zip(fisher, var, jmax)], Tb.shape[1])
 
@@ -892,7 +936,9 @@ class HeldoutNull:
     they are made once; :meth:`gain` adds a candidate's directions.  The
     out-of-fold prediction of fold f is (e_train pinv(X_train)') X_test', two
     thin products (B x n_train x P, then B x P x n_test) instead of the
-    n_test x n_train hat matrix.
+    n_test x n_train hat matrix; the first for every fold at once, as e Z with
+    Z (N, folds x P) holding each fold's pinv(X_train)' at its training points
+    and zeros elsewhere (no copies of the draws' training columns).
     """
 
     def __init__(self, J_model: np.ndarray, noise: NoiseModel, layout: SweepLayout, point_fold: np.ndarray,
@@ -907,13 +953,15 @@ class HeldoutNull:
     def _sse(self, X: np.ndarray, inside: np.ndarray) -> np.ndarray:
         """Per draw: the sum over held-out points ``inside`` of the squared out-of-fold error of model X."""
         out = np.zeros(self.e.shape[0])
-        for te_all, tr in self.folds:
-            te = te_all & inside
-            if not te.any():
-                continue
-            coef = self.e[:, tr] @ np.linalg.pinv(X[tr], rcond=1e-10).T  # (B, P): the fold's fit to the noise
-            oof = self.e[:, te] - coef @ X[te].T
-            out += np.sum(oof * oof, axis=1)
+        used = [(te_all & inside, tr) for te_all, tr in self.folds if (te_all & inside).any()]
+        P = X.shape[1]
+        Z = np.zeros((X.shape[0], len(used) * P))
+        for i, (_, tr) in enumerate(used):
+            Z[tr, i * P:(i + 1) * P] = np.linalg.pinv(X[tr], rcond=1e-10).T
+        coef = self.e @ Z  # (B, folds x P): each fold's fit to the noise
+        for i, (te, _) in enumerate(used):
+            oof = self.e[:, te] - coef[:, i * P:(i + 1) * P] @ X[te].T
+            out += np.einsum("bi,bi->b", oof, oof)
         return out
 
     def gain(self, J_new: np.ndarray, inside: np.ndarray) -> np.ndarray:
