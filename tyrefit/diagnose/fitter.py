@@ -144,30 +144,20 @@ class ModelSpec:
             h = self._steps(x0, 1e-7)
             F = np.broadcast_to(_model(self._columns(x0, h), self.effects, inputs), (k + 1, n))
             return F[0], ((F[1:] - F[0]) / h[:, None]).T
-        f0, J = self.jacobian_batch(x0[None, :], inputs, inputs)
+        f0, J = self.jacobian_batch(x0[None, :], inputs)
         return f0[0], J[0]
 
-    def _point_values(self, X: np.ndarray, n: int) -> dict:
-        """Values with parameter set f of ``X`` (F, P) at the points f*n .. (f+1)*n - 1 (fixed ones scalars)."""
-        v = dict(self.fixed)
-        v.update({name: np.repeat(X[:, j], n) for j, name in enumerate(self.names)})
-        return v
-
-    def predict_batch(self, X: np.ndarray, tiled: ModelInputs, n: int) -> np.ndarray:
-        """Lateral force [N] of F parameter sets ``X`` (F, P) on ``tiled`` (the n inputs repeated F times) -> (F, n)."""
-        X = np.atleast_2d(X)
-        return _model(self._point_values(X, n), self.effects, tiled).reshape(len(X), n)
-
-    def jacobian_batch(self, X: np.ndarray, inputs: ModelInputs, tiled: ModelInputs):
+    def jacobian_batch(self, X: np.ndarray, inputs: ModelInputs):
         """:meth:`jacobian` (``'chain'``) of F parameter sets at once: (F, n) forces and (F, n, P) Jacobians.
 
-        The coefficients and their parameter derivatives are made per set, as :meth:`jacobian` makes them,
-        on the n points of ``inputs``; PAC89's analytic Jacobian then runs once on ``tiled`` (those n points
-        repeated F times) with every set's coefficients point-wise, so one model call serves all F sets.
+        The coefficients and their parameter derivatives are made per set, as :meth:`jacobian` makes them;
+        PAC89's analytic Jacobian then runs once, every set's coefficients a (F, 1) column (or (F, n) where
+        they vary from point to point) broadcast against the n points of ``inputs``, so one model call
+        serves all F sets (one set: its coefficients as numbers, or (n,) arrays).  Each set's rows are
+        computed as they would be alone.
         """
         X = np.atleast_2d(np.asarray(X, dtype=float))
         F, k = X.shape
-        n = len(inputs.fz)
         H = self._steps(X, 1e-6)  # (F, k)
         # every set's parameter columns stacked: row f (k+1) + 0 at X[f], row f (k+1) + j + 1 stepped in j
         C = np.repeat(X[:, None, :], k + 1, axis=1)  # (F, k+1, k)
@@ -184,22 +174,22 @@ class ModelSpec:
                 continue
             v3 = v.reshape(F, k + 1, -1)
             varied.append(c)
-            # a value per set: one number for a single set, else spread over that set's points
-            p0[c] = v3[0, 0] if F == 1 else np.broadcast_to(v3[:, 0, :], (F, n)).reshape(-1)
+            # each set's value: (F, 1), or (F, n) when it varies from point to point; one set: a number or (n,)
+            p0[c] = v3[:, 0, :] if F > 1 else (v3[0, 0, 0] if v3.shape[2] == 1 else v3[0, 0])
             dvs.append((v3[:, 1:, :] - v3[:, :1, :]) / H[:, :, None])  # (F, k, 1 or n)
-        p0 = {c: (np.tile(v, F) if isinstance(v, np.ndarray) and v.ndim == 1 and len(v) == n else v)
-              for c, v in p0.items()}
-        f0, Jc = pac89.lateral_jacobian(p0, tiled.fz, tiled.slip_angle, tiled.camber, names=varied)
-        Jc = Jc.reshape(F, n, len(varied))
-        M = np.zeros((F, len(varied), k))
-        J = np.zeros((F, n, k))
-        for i, dv in enumerate(dvs):
-            if dv.shape[2] == 1:
-                M[:, i, :] = dv[:, :, 0]
-            else:
-                J += Jc[:, :, i:i + 1] * dv.transpose(0, 2, 1)
-        J += Jc @ M
-        return f0.reshape(F, n), J
+        f0, Jc = pac89.lateral_jacobian(p0, inputs.fz, inputs.slip_angle, inputs.camber, names=varied)
+        if F == 1:
+            f0, Jc = f0[None], Jc[None]
+        point = [i for i, dv in enumerate(dvs) if dv.shape[2] > 1]
+        zero = np.zeros((F, k))
+        M = np.stack([zero if i in point else dv[:, :, 0] for i, dv in enumerate(dvs)], axis=1)  # (F, varied, k)
+        if not point:
+            return f0, Jc @ M
+        Jt = np.zeros((F, k, Jc.shape[1]))  # the point-wise terms summed parameter by parameter (rows of n)
+        for i in point:
+            Jt += dvs[i] * Jc[:, None, :, i]
+        Jt += (Jc @ M).transpose(0, 2, 1)
+        return f0, np.ascontiguousarray(Jt.transpose(0, 2, 1))
 
 
 @dataclass
@@ -221,32 +211,42 @@ def _start(spec: ModelSpec, x0) -> np.ndarray:
     return np.where(x >= spec.upper, spec.upper - 1e-9 * spec.scale, x)
 
 
-def _problem(spec: ModelSpec, data: SweepData, idx):
-    """(residual, residual-and-Jacobian, points) of ``spec`` on the points ``idx`` of ``data``."""
+def _problem(spec: ModelSpec, data: SweepData, idx, known=None):
+    """(residual, residual-and-Jacobian, points) of ``spec`` on the points ``idx`` of ``data``.
+
+    ``known``: (theta, f, J) of the model on these points at one theta, already made: served from there.
+    """
     inputs = data.inputs if idx is None else data.inputs.take(idx)
     y = data.fy if idx is None else data.fy[idx]
 
     def both(t):
+        if known is not None and np.array_equal(t, known[0]):
+            return known[1] - y, known[2]
         f0, J = spec.jacobian(t, inputs)
         return f0 - y, J
 
     def fun(t):
+        if known is not None and np.array_equal(t, known[0]):
+            return known[1] - y  # the Jacobian's model value is the prediction's, bit for bit
         return spec.predict(t, inputs) - y
 
     return fun, both, inputs, y
 
 
-def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200, tol: float = 1e-9) -> FitOut:
+def fit(spec: ModelSpec, data: SweepData, idx=None, x0=None, max_nfev: int = 200, tol: float = 1e-9,
+        at_start=None) -> FitOut:
     """Least-squares fit of ``spec`` to ``data`` (points ``idx``), starting at ``x0``.
 
     One :func:`tyrefit.fitting.core.solve` (``'lm-normal'`` back end, ``'l2'``
     cost on Fy in N, all points weighted alike).  ``tol`` is the relative cost
-    reduction below which the fit stops.  Returns the fit on the chosen
-    points; raises :class:`FitError` if the model cannot be evaluated
-    (non-finite) at the start.
+    reduction below which the fit stops.  ``at_start``: (f, J) of
+    :meth:`ModelSpec.jacobian` at ``x0`` on all points, when already made (the
+    fit's first evaluation).  Returns the fit on the chosen points; raises
+    :class:`FitError` if the model cannot be evaluated (non-finite) at the start.
     """
-    fun, both, _, _ = _problem(spec, data, idx)
     x = _start(spec, x0)
+    known = (x, *at_start) if at_start is not None and idx is None else None
+    fun, both, _, _ = _problem(spec, data, idx, known)
     try:
         sol = solve(fun, spec.parameters(x), fun_jac=both, method="lm-normal", max_nfev=max_nfev, tol=tol,
                     stderr=False, what="diagnosis refit")
@@ -292,24 +292,25 @@ def fit_folds(spec: ModelSpec, data: SweepData, tests, x0, max_nfev: int = 200, 
         X = np.array([fit(spec, data, idx=np.flatnonzero(~np.asarray(t, dtype=bool)), x0=x0, max_nfev=max_nfev,
                           tol=tol).theta for t in tests])
         return X, np.array([spec.predict(x, data.inputs) - data.fy for x in X])
-    tiled = data.inputs.take(np.tile(np.arange(n), F))
     w = ~np.asarray(tests, dtype=bool)
-
-    def jac(X, rows):
-        f0, J = spec.jacobian_batch(X, data.inputs, _rows_of(tiled, rows, n, F))
-        return f0 - data.fy, J
-
-    def fun(X, rows):
-        return spec.predict_batch(X, _rows_of(tiled, rows, n, F), n) - data.fy
-
+    jac = _batch_problem(spec, data)
     x = np.repeat(_start(spec, x0)[None, :], F, axis=0)
-    X, R, _, _ = lm_normal_batch(jac, fun, x, w.astype(float), spec.lower, spec.upper, spec.scale, max_nfev, tol)
+    X, R, _, _ = lm_normal_batch(jac, None, x, w.astype(float), spec.lower, spec.upper, spec.scale, max_nfev, tol)
     return X, R
 
 
-def _rows_of(tiled: ModelInputs, rows, n: int, F: int) -> ModelInputs:
-    """The inputs of the folds ``rows`` (every fold holds the same n points, in the same order)."""
-    return tiled if len(rows) == F else tiled.take(np.arange(len(rows) * n))
+def _batch_problem(spec: ModelSpec, data: SweepData):
+    """Residuals and Jacobians of parameter sets (F, P) on every point, for :func:`lm_normal_batch`."""
+
+    def jac(X, rows):
+        if len(X) > 1 and (X == X[0]).all():  # one start shared by every problem: one evaluation serves all
+            f0, J = spec.jacobian_batch(X[:1], data.inputs)
+            f0, J = np.repeat(f0, len(X), axis=0), np.repeat(J, len(X), axis=0)
+        else:
+            f0, J = spec.jacobian_batch(X, data.inputs)
+        return f0 - data.fy, J
+
+    return jac
 
 
 def _fitout(spec: ModelSpec, sol) -> FitOut:
@@ -392,16 +393,8 @@ def fit_start(spec: ModelSpec, data: SweepData) -> FitOut:
     starts = np.array([_start(spec, spec.start(dict(g, a0=a0, a7=a7)))
                        for a0, a7 in ((1.4, -0.3), (1.2, 0.3), (1.7, -1.0))])
     n, S = data.n, len(starts)
-    tiled = data.inputs.take(np.tile(np.arange(n), S))
-
-    def jac(X, rows):
-        f0, J = spec.jacobian_batch(X, data.inputs, _rows_of(tiled, rows, n, S))
-        return f0 - data.fy, J
-
-    def fun(X, rows):
-        return spec.predict_batch(X, _rows_of(tiled, rows, n, S), n) - data.fy
-
-    X, R, nfev, ok = lm_normal_batch(jac, fun, starts, np.ones((S, n)), spec.lower, spec.upper, spec.scale, 200,
+    jac = _batch_problem(spec, data)
+    X, R, nfev, ok = lm_normal_batch(jac, None, starts, np.ones((S, n)), spec.lower, spec.upper, spec.scale, 200,
                                      1e-9)
     sse = np.where(np.all(np.isfinite(R), axis=1), np.sum(R * R, axis=1), np.inf)
     b = int(np.argmin(sse))

@@ -807,10 +807,12 @@ def lm_normal(jac, fun, x, lower, upper, scale, max_nfev: int, tol: float = 1e-9
     nfev = 1
     converged = False
     span = 1e-12 * scale
+    lo, hi = lower + span, upper - span  # at a bound within these
+    scale_rows = np.broadcast_to(scale, np.shape(J)).copy()  # J * scale as one same-shape product
     while nfev < max_nfev:
-        Js = J * scale
+        Js = J * scale_rows
         g = Js.T @ r
-        active = ((x <= lower + span) & (g > 0)) | ((x >= upper - span) & (g < 0))
+        active = ((x <= lo) & (g > 0)) | ((x >= hi) & (g < 0))
         free = ~active
         A = Js[:, free].T @ Js[:, free]
         d = np.diag(A).copy()
@@ -820,7 +822,7 @@ def lm_normal(jac, fun, x, lower, upper, scale, max_nfev: int, tol: float = 1e-9
             h[free] = -np.linalg.solve(A + lam * np.diag(d), g[free])
         except np.linalg.LinAlgError:
             h[free] = -np.linalg.lstsq(A + lam * np.diag(d), g[free], rcond=None)[0]
-        x_new = np.clip(x + h * scale, lower, upper)
+        x_new = np.minimum(np.maximum(x + h * scale, lower), upper)  # clipped into the box
         h = (x_new - x) / scale
         predicted = -(2.0 * h @ g + h @ (Js.T @ (Js @ h)))
         r_new = fun(x_new)
@@ -862,8 +864,11 @@ def lm_normal_batch(jac, fun, x, w, lower, upper, scale, max_nfev: int, tol: flo
     jac : callable
         ``jac(X, rows) -> (R, J)``: residuals (len(rows), N) and Jacobians
         (len(rows), N, P) of the problems ``rows`` at their parameters ``X``.
-    fun : callable
-        ``fun(X, rows) -> R``.
+    fun : callable or None
+        ``fun(X, rows) -> R``.  None: the trial points are evaluated with
+        ``jac``, and an accepted step's Jacobian is the one made there (fewer
+        model calls when most steps are accepted and ``jac`` costs little more
+        than ``fun``; the same steps, as ``jac``'s R is ``fun``'s).
     x : ndarray (F, P)
         Start of each problem.
     w : ndarray (F, N)
@@ -886,59 +891,77 @@ def lm_normal_batch(jac, fun, x, w, lower, upper, scale, max_nfev: int, tol: flo
     done = np.zeros(F, dtype=bool)
     converged = np.zeros(F, dtype=bool)
     span = 1e-12 * scale
+    lo, hi = lower + span, upper - span  # at a bound within these
+    left_out = w == 0
     eye = np.eye(P, dtype=bool)
+    # scale and weights spread to J's shape: the products below as same-shape ones (no short broadcast loops)
+    scale_all = np.broadcast_to(scale, J.shape).copy()
+    w_all = np.broadcast_to(w[:, :, None], J.shape).copy()
     while True:
         act = np.flatnonzero(~done & (nfev < max_nfev))
         if not act.size:
             break
-        Js = J[act] * scale
-        Jw = Js * w[act][:, :, None]
+        every = act.size == F  # all problems still running: their arrays as they are, no copies
+        Ja, ra, wa, xa = (J, r, w, x) if every else (J[act], r[act], w[act], x[act])
+        Js = Ja * scale_all[:act.size]
+        Jw = Js * (w_all if every else w_all[act])
         JwT = Jw.transpose(0, 2, 1)
-        g = (JwT @ r[act][:, :, None])[:, :, 0]
+        g = (JwT @ ra[:, :, None])[:, :, 0]
         A = JwT @ Js
-        xa = x[act]
-        held = ((xa <= lower + span) & (g > 0)) | ((xa >= upper - span) & (g < 0))
+        held = ((xa <= lo) & (g > 0)) | ((xa >= hi) & (g < 0))
         d = np.diagonal(A, axis1=1, axis2=2).copy()
         d[d <= 0] = 1.0
-        M = A + (lam[act][:, None] * d)[:, None, :] * eye
-        # a held parameter: its row and column out of the system, a unit pivot in their place (h = 0 there)
-        M = np.where(held[:, :, None] | held[:, None, :], 0.0, M) + held[:, None, :] * eye
-        gf = np.where(held, 0.0, g)
+        M = A + ((lam if every else lam[act])[:, None] * d)[:, None, :] * eye
+        gf = g
+        if held.any():
+            # a held parameter: its row and column out of the system, a unit pivot in their place (h = 0 there)
+            M = np.where(held[:, :, None] | held[:, None, :], 0.0, M) + held[:, None, :] * eye
+            gf = np.where(held, 0.0, g)
         try:
             h = -np.linalg.solve(M, gf[:, :, None])[:, :, 0]
         except np.linalg.LinAlgError:
             h = -np.stack([np.linalg.lstsq(M[i], gf[i], rcond=None)[0] for i in range(len(act))])
-        x_new = np.clip(xa + h * scale, lower, upper)
+        x_new = np.minimum(np.maximum(xa + h * scale, lower), upper)  # clipped into the box
         h = (x_new - xa) / scale
         predicted = -(2.0 * np.sum(h * g, axis=1) + np.sum(h * (A @ h[:, :, None])[:, :, 0], axis=1))
-        r_new = np.asarray(fun(x_new, act), dtype=float)
+        if fun is None:
+            r_new, J_new = jac(x_new, act)
+            r_new = np.asarray(r_new, dtype=float)
+        else:
+            r_new = np.asarray(fun(x_new, act), dtype=float)
         nfev[act] += 1
-        wa = w[act]
-        fin = np.all(np.isfinite(r_new) | (wa == 0), axis=1)
-        rw = np.where(wa == 0, 0.0, r_new)  # left-out points count for nothing, finite or not
-        cost_new = np.where(fin, np.sum(wa * rw * rw, axis=1), np.inf)
+        if np.isfinite(r_new).all():
+            cost_new = np.sum(wa * r_new * r_new, axis=1)
+        else:  # left-out points count for nothing, finite or not
+            out = left_out if every else left_out[act]
+            fin = np.all(np.isfinite(r_new) | out, axis=1)
+            rw = np.where(out, 0.0, r_new)
+            cost_new = np.where(fin, np.sum(wa * rw * rw, axis=1), np.inf)
         better = cost_new < cost[act]
         # accepted steps (vectorised over the problems; the same rules as lm_normal)
         ia = act[better]
-        old_cost, new_cost, pred = cost[ia], cost_new[better], predicted[better]
-        rel = (old_cost - new_cost) / np.maximum(old_cost, 1e-300)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        upd = ia[:0]
+        if ia.size:
+            old_cost, new_cost, pred = cost[ia], cost_new[better], predicted[better]
+            rel = (old_cost - new_cost) / np.maximum(old_cost, 1e-300)
             rho = np.where(pred > 0, (old_cost - new_cost) / np.where(pred > 0, pred, 1.0), 0.0)
-        dx = np.max(np.abs(h[better]), axis=1) if ia.size else np.zeros(0)
-        x[ia], cost[ia], r[ia] = x_new[better], new_cost, r_new[better]
-        stop = (rel < tol) | (dx < tol)
-        converged[ia[stop]] = done[ia[stop]] = True
-        go = ~stop
-        upd = ia[go]
-        lam[upd] = np.maximum(lam[upd] * np.maximum(1.0 / 3.0, 1.0 - (2.0 * rho[go] - 1.0) ** 3), 1e-12)
-        nu[upd] = 2.0
-        # refused steps: more damping
-        ir = act[~better]
-        lam[ir] *= nu[ir]
-        nu[ir] *= 2.0
-        give_up = ir[lam[ir] > 1e10]
-        converged[give_up] = done[give_up] = True
-        if upd.size:
+            dx = np.max(np.abs(h[better]), axis=1)
+            x[ia], cost[ia], r[ia] = x_new[better], new_cost, r_new[better]
+            stop = (rel < tol) | (dx < tol)
+            converged[ia[stop]] = done[ia[stop]] = True
+            go = ~stop
+            upd = ia[go]
+            lam[upd] = np.maximum(lam[upd] * np.maximum(1.0 / 3.0, 1.0 - (2.0 * rho[go] - 1.0) ** 3), 1e-12)
+            nu[upd] = 2.0
+        if ia.size < act.size:  # refused steps: more damping
+            ir = act[~better]
+            lam[ir] *= nu[ir]
+            nu[ir] *= 2.0
+            give_up = ir[lam[ir] > 1e10]
+            converged[give_up] = done[give_up] = True
+        if upd.size and fun is None:
+            J[upd] = J_new[np.flatnonzero(better)[go]]
+        elif upd.size:
             rr, JJ = jac(x[upd], upd)
             r[upd], J[upd] = rr, JJ
     return x, r, nfev, converged

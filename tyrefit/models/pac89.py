@@ -117,15 +117,31 @@ def lateral_factors(p: Mapping[str, float], fzk, gamma) -> Factors:
     sin(2 atan z) is evaluated as 2 z / (1 + z^2) (the same value without
     trigonometric calls, which dominate the cost of large evaluations).
     """
+    return _lateral_parts(p, fzk, gamma)[0]
+
+
+def _lateral_parts(p: Mapping[str, float], fzk, gamma) -> tuple[Factors, dict]:
+    """:func:`lateral_factors` and the terms in load and camber that its Jacobian reuses.
+
+    Returns the factors and ``fzk2`` = Fz^2, ``z2`` = (Fz/a4)^2, ``den`` = 1 + z2, ``s2`` = sin(2 atan(Fz/a4)),
+    ``ag`` = |gamma|, ``cam`` = 1 - a5 |gamma| and ``CD`` = C D.
+    """
+    fzk2 = fzk**2
     C = p["a0"] + 0.0 * fzk
-    D = p["a1"] * fzk**2 + p["a2"] * fzk
+    D = p["a1"] * fzk2 + p["a2"] * fzk
     z = fzk / p["a4"]
-    BCD = p["a3"] * (2.0 * z / (1.0 + z * z)) * (1.0 - p["a5"] * np.abs(gamma))  # = a3 sin(2 atan z) (...)
-    B = BCD / (C * D)
+    z2 = z * z
+    den = 1.0 + z2
+    s2 = 2.0 * z / den  # = sin(2 atan z)
+    ag = np.abs(gamma)
+    cam = 1.0 - p["a5"] * ag
+    BCD = p["a3"] * s2 * cam
+    CD = C * D
+    B = BCD / CD
     E = p["a6"] * fzk + p["a7"]
     Sh = p["a8"] * gamma + p["a9"] * fzk + p["a10"]
     Sv = p["a11"] * fzk * gamma + p["a12"] * fzk + p["a13"]
-    return Factors(B, C, D, E, Sh, Sv)
+    return Factors(B, C, D, E, Sh, Sv), {"fzk2": fzk2, "z2": z2, "den": den, "s2": s2, "ag": ag, "cam": cam, "CD": CD}
 
 
 def longitudinal_factors(p: Mapping[str, float], fzk) -> Factors:
@@ -223,7 +239,8 @@ def magic_formula_partials(x, B, C, D, E):
     """
     u = B * x
     atu = np.arctan(u)
-    phi = u - E * (u - atu)
+    w = u - atu
+    phi = u - E * w
     at_phi = np.arctan(phi)
     theta = C * at_phi
     s = np.sin(theta)
@@ -232,34 +249,36 @@ def magic_formula_partials(x, B, C, D, E):
     c = np.sqrt(np.maximum(1.0 - s * s, 0.0))
     c = np.where(np.abs(theta) > 0.5 * np.pi, -c, c)
     y = D * s
-    dy_dphi = D * c * C / (1.0 + phi * phi)
+    Dc = D * c
+    dy_dphi = Dc * C / (1.0 + phi * phi)
     dphi_du = (1.0 - E) + E / (1.0 + u * u)
     g = dy_dphi * dphi_du
-    return y, g * B, g * x, D * c * at_phi, s, -dy_dphi * (u - atu)
+    return y, g * B, g * x, Dc * at_phi, s, -dy_dphi * w
 
 
-def _factor_partials(x, f: Factors):
-    """y and dy/d(C, D, BCD, E, Sh, Sv) with B = BCD / (C D) expanded (PAC89 units)."""
+def _factor_partials(x, f: Factors, cd=None):
+    """y and dy/d(C, D, BCD, E, Sh, Sv) with B = BCD / (C D) expanded (PAC89 units); ``cd``: C D if made."""
     y, dx, dB, dC, dD, dE = magic_formula_partials(x, f.B, f.C, f.D, f.E)
-    dBCD = dB / (f.C * f.D)
-    return (y + f.Sv, {"C": dC - dB * f.B / f.C, "D": dD - dB * f.B / f.D, "BCD": dBCD,
+    dBCD = dB / (f.C * f.D if cd is None else cd)
+    dBB = dB * f.B
+    return (y + f.Sv, {"C": dC - dBB / f.C, "D": dD - dBB / f.D, "BCD": dBCD,
                        "E": dE, "Sh": dx, "Sv": 1.0})
 
 
-def _assemble(names, all_names, columns, n, sign=1.0):
-    """Jacobian (n, len(names)) from per-coefficient columns (arrays, scalars or callables).
+def _assemble(names, all_names, columns, shape, sign=1.0):
+    """Jacobian ``shape + (len(names),)`` from per-coefficient columns (arrays, scalars or callables).
 
-    Built row by row in a (k, n) array (contiguous writes) and returned
-    transposed; ``sign`` is applied on the way (the ISO-W output mapping).
-    Only the requested columns are computed.
+    Built column by column in a (k,) + ``shape`` array (contiguous writes) and
+    returned with that axis moved last; ``sign`` is applied on the way (the
+    ISO-W output mapping).  Only the requested columns are computed.
     """
-    out = np.empty((len(names), n))
+    out = np.empty((len(names),) + tuple(shape))
     for j, name in enumerate(names):
         if name not in all_names:
             raise KeyError(f"{name} is not a coefficient of this part ({all_names[0]}..{all_names[-1]})")
         v = columns[name]
         np.multiply(v() if callable(v) else v, sign, out=out[j])
-    return out.T
+    return out.transpose(tuple(range(1, out.ndim)) + (0,))
 
 
 def lateral_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=LATERAL):
@@ -281,6 +300,10 @@ def lateral_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=L
     jac : ndarray, shape (n, len(names))
         d fy / d coefficient [N per coefficient unit], ISO-W.
 
+    Coefficients may be arrays that broadcast against the points, e.g.
+    (F, 1) columns holding F coefficient sets: ``fy`` then has the broadcast
+    shape (F, n) and ``jac`` that shape plus the coefficient axis.
+
     Notes
     -----
     Chain rule through C = a0, D = a1 Fz^2 + a2 Fz,
@@ -289,38 +312,41 @@ def lateral_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=L
     Chrono's +/-89.5 deg clamp on x is active, dF/dSh = 0.
     """
     fzk, alpha, gamma = _to_pac(fz, slip_angle, camber)
-    fzk, alpha, gamma = np.broadcast_arrays(np.atleast_1d(fzk), np.atleast_1d(alpha), np.atleast_1d(gamma))
-    f = lateral_factors(p, fzk, gamma)
+    if not (fzk.ndim == 1 and fzk.shape == alpha.shape == gamma.shape):
+        fzk, alpha, gamma = np.broadcast_arrays(np.atleast_1d(fzk), np.atleast_1d(alpha), np.atleast_1d(gamma))
+    f, t = _lateral_parts(p, fzk, gamma)
     xs = alpha + f.Sh
-    x = np.clip(xs, -X_LIMIT_DEG, X_LIMIT_DEG)
-    y, d = _factor_partials(x, f)
-    dSh = np.where(np.abs(xs) < X_LIMIT_DEG, d["Sh"], 0.0)
-    ag = np.abs(gamma)
-    z = fzk / p["a4"]
-    s2 = 2.0 * z / (1.0 + z * z)  # sin(2 atan z)
-    cam = 1.0 - p["a5"] * ag
+    x = np.minimum(np.maximum(xs, -X_LIMIT_DEG), X_LIMIT_DEG)  # Chrono's clamp (np.clip, without its overhead)
+    y, d = _factor_partials(x, f, t["CD"])
+    ag, s2, cam, z2, den, fzk2 = t["ag"], t["s2"], t["cam"], t["z2"], t["den"], t["fzk2"]
     dBCD = d["BCD"]
     a3, a4 = p["a3"], p["a4"]
+    made = []
+
+    def dSh():  # dF/dSh, zero where the clamp holds x
+        if not made:
+            made.append(np.where(np.abs(xs) < X_LIMIT_DEG, d["Sh"], 0.0))
+        return made[0]
+
     cols = {
         "a0": d["C"],
-        "a1": lambda: d["D"] * fzk**2,
+        "a1": lambda: d["D"] * fzk2,
         "a2": lambda: d["D"] * fzk,
         "a3": lambda: dBCD * s2 * cam,
         # d/da4 sin(2 atan(Fz/a4)) = cos(2 atan(Fz/a4)) * (-2 Fz / (a4^2 + Fz^2)), cos(2 atan z) = (1-z^2)/(1+z^2)
-        "a4": lambda: dBCD * (a3 * cam * ((1.0 - z * z) / (1.0 + z * z)) * (-2.0 * fzk / (a4**2 + fzk**2))),
+        "a4": lambda: dBCD * (a3 * cam * ((1.0 - z2) / den) * (-2.0 * fzk / (a4**2 + fzk2))),
         "a5": lambda: dBCD * (-a3 * s2 * ag),
         "a6": lambda: d["E"] * fzk,
         "a7": d["E"],
-        "a8": lambda: dSh * gamma,
-        "a9": lambda: dSh * fzk,
+        "a8": lambda: dSh() * gamma,
+        "a9": lambda: dSh() * fzk,
         "a10": dSh,
         "a11": lambda: fzk * gamma,
         "a12": fzk,
         "a13": 1.0,
     }
-    n = fzk.shape[0]
     sign = _from_pac(1.0)
-    return sign * y, _assemble(tuple(names), LATERAL, cols, n, sign)
+    return sign * y, _assemble(tuple(names), LATERAL, cols, np.shape(y), sign)
 
 
 def longitudinal_jacobian(p: Mapping[str, float], fz, slip_ratio, names=LONGITUDINAL):
@@ -351,7 +377,7 @@ def longitudinal_jacobian(p: Mapping[str, float], fz, slip_ratio, names=LONGITUD
         "b9": lambda: d["Sh"] * fzk,
         "b10": d["Sh"],
     }
-    return y, _assemble(tuple(names), LONGITUDINAL, cols, fzk.shape[0])
+    return y, _assemble(tuple(names), LONGITUDINAL, cols, fzk.shape)
 
 
 def aligning_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=ALIGNING):
@@ -390,6 +416,5 @@ def aligning_jacobian(p: Mapping[str, float], fz, slip_angle, camber=0.0, names=
         "c16": fzk,
         "c17": 1.0,
     }
-    n = fzk.shape[0]
     sign = _from_pac(1.0)
-    return sign * y, _assemble(tuple(names), ALIGNING, cols, n, sign)
+    return sign * y, _assemble(tuple(names), ALIGNING, cols, fzk.shape, sign)
