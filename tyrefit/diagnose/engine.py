@@ -155,6 +155,9 @@ class _Engine:
         self.inside, self.inside_sweep = self._inside()
         self.fixed = {}
         self._heldout_nulls: dict = {}  # (current step, its parameters) -> HeldoutNull of this round
+        self._at_current: dict = {}  # candidate spec id -> (spec, theta, f, J) at the current model (screening)
+        self._refits: dict = {}  # (candidate spec id, current step id) -> (spec, current step, the candidate's step)
+        self._nulls: dict = {}  # (spec id, step id, held-out mask) -> (spec, step, HeldoutNull, null gains)
         if len(data.levels["fz"]) < 2:
             # one load level: the load law cannot be identified; fix a4 so BCD is flat near it
             self.fixed["a4"] = float(2e-3 * data.levels["fz"][0])
@@ -224,9 +227,11 @@ class _Engine:
         d = self.data
         Js = []
         J_model = None
+        self._at_current, self._refits = {}, {}
         for e, cspec in cands:
             theta = cspec.start(cur.values)
             f0, J = cspec.jacobian(theta, d.inputs)
+            self._at_current[id(cspec)] = (cspec, theta, f0, J)
             new = [i for i, n in enumerate(cspec.names) if n not in spec.names]
             if J_model is None:
                 old = [cspec.names.index(n) for n in spec.names]
@@ -237,9 +242,22 @@ class _Engine:
         return scr
 
     def evaluate(self, cspec: ModelSpec, cur: Step, margin_abs: float, noise=None) -> tuple[Step, dict]:
+        """Refit ``cspec`` from the current step ``cur`` and weigh its held-out evidence.
+
+        The refit and its held-out errors are made once per candidate and current step (the overload's knee
+        check asks for smooth friction laws the round refits too); the parts drawn from ``self.rng`` are
+        drawn at every call, so the random stream is the same whether or not the refit was made before.
+        """
         d = self.data
-        full = fit(cspec, d, x0=cspec.start(cur.fit.values))
-        st = self.step(cspec, full, None)
+        key = (id(cspec), id(cur))
+        got = self._refits.get(key)
+        if got is None or got[0] is not cspec or got[1] is not cur:
+            x0 = cspec.start(cur.fit.values)
+            full = fit(cspec, d, x0=x0, at_start=self._made_at(cspec, x0))
+            got = (cspec, cur, self.step(cspec, full, None))
+            self._refits[key] = got
+        st = got[2]
+        full = st.fit
         sse0 = cluster_sums(cur.oof**2, d.sweep, self.G)[:, 0]
         sse1 = cluster_sums(st.oof**2, d.sweep, self.G)[:, 0]
         diff = (sse0 - sse1)[self.inside_sweep] if self.inside_sweep.any() else sse0 - sse1
@@ -274,7 +292,16 @@ class _Engine:
 
     def start_jacobian(self, cspec: ModelSpec, cur: Step) -> np.ndarray:
         """The candidate model's Jacobian at the current model's fit (its new terms neutral)."""
-        return cspec.jacobian(cspec.start(cur.fit.values), self.data.inputs)[1]
+        theta = cspec.start(cur.fit.values)
+        made = self._made_at(cspec, theta)
+        return cspec.jacobian(theta, self.data.inputs)[1] if made is None else made[1]
+
+    def _made_at(self, cspec: ModelSpec, theta: np.ndarray):
+        """(f, J) of ``cspec`` at ``theta`` if the screening made them there, else None."""
+        got = self._at_current.get(id(cspec))
+        if got is None or got[0] is not cspec or not np.array_equal(got[1], theta):
+            return None
+        return got[2], got[3]
 
     def heldout_p(self, cspec: ModelSpec, cur: Step, st: Step, noise, mask=None, J=None) -> float:
         """p-value of the held-out gain against pure noise (noise-model screening only, else NaN).
@@ -298,8 +325,14 @@ class _Engine:
         hn = self._heldout_nulls.get(key)
         if hn is None or hn.noise is not noise:
             hn = HeldoutNull(J[:, old], noise, self.layout, self.point_fold, self.rng, self.s.n_boot_heldout)
-            self._heldout_nulls = {key: hn}
-        null = hn.gain(J[:, new], m)
+            self._heldout_nulls, self._nulls = {key: hn}, {}
+        # a candidate asked again on the same draws (see evaluate) has the same null
+        nkey = (id(cspec), id(cur), m.tobytes())
+        got = self._nulls.get(nkey)
+        if got is None or got[0] is not cspec or got[1] is not cur or got[2] is not hn:
+            got = (cspec, cur, hn, hn.gain(J[:, new], m))
+            self._nulls[nkey] = got
+        null = got[3]
         return float((1.0 + np.count_nonzero(null >= gain)) / (len(null) + 1.0))
 
 
