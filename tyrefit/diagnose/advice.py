@@ -35,7 +35,7 @@ __all__ = ["MF61", "PEAK_SEARCH_DEG", "build_advice", "level_curve", "measured_p
            "pushes"]
 
 _DEG = np.pi / 180.0
-#: the words for an effect PAC89 cannot carry and MF 6.1 can (issue 13: the model ladder)
+#: the words for an effect PAC89 cannot carry and MF 6.1 can (the model ladder)
 MF61 = "needs MF 6.1 (`--model mf61`)"
 
 

@@ -17,8 +17,8 @@
    structure still unexplained and say where it is; write the experiment-design
    advice (:mod:`tyrefit.diagnose.advice`).
 
-Evidence design (issue 11): why this one
-----------------------------------------
+Evidence design: why this one
+-----------------------------
 The commonest rig layout is one -12..+12 deg sweep per load, 5-7 loads, one
 pressure, no camber.  The previous design (a score test whose null came from
 sign flips of whole sweeps, Holm over every catalogue entry, and a rule
