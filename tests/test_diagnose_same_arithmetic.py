@@ -1,8 +1,8 @@
 """The diagnosis' shortcuts do the same arithmetic as the computations they stand for, bit for bit.
 
-A refit amplifies a difference in the last bit of one Levenberg-Marquardt step into ~1e-5 of the
-fitted parameters (the fits stop at a relative cost change of 1e-9), so every shortcut in the fitting
-path must give exactly the numbers of the plain computation: the model's value from its Jacobian and
+A difference in the last bit of one Levenberg-Marquardt step grows far beyond rounding in the fitted
+parameters (the fits stop at a relative cost change, not at the exact minimum), so every shortcut in the
+fitting path must give exactly the numbers of the plain computation: the model's value from its Jacobian and
 from a prediction, a parameter set alone and repeated, a Jacobian made once and served again, the batch
 Levenberg-Marquardt with its trial points evaluated by the Jacobian, the sweep layout read as a reshape,
 the min-p ranks from one sort, a refit made once per candidate and current step.
