@@ -60,7 +60,8 @@ from pathlib import Path
 
 #: modules mutated, and the test files run against each (the fast tier of each file)
 TARGETS = {
-    "tyrefit/models/pac89.py": ["tests/test_pac89.py", "tests/test_fitting.py", "tests/test_mutations.py"],
+    "tyrefit/models/pac89.py": ["tests/test_pac89.py", "tests/test_mutants_session12.py", "tests/test_fitting.py",
+                                "tests/test_mutations.py"],
     "tyrefit/models/slip.py": ["tests/test_slip.py"],
     "tyrefit/fitting/engine.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mutants_session12.py",
                                   "tests/test_fitting.py",
@@ -101,11 +102,13 @@ TARGETS = {
     "tyrefit/models/mf61.py": ["tests/test_mutants_sampled_fit.py", "tests/test_mf61_model.py",
                                "tests/test_mf_parts.py", "tests/test_mf52_61keys.py", "tests/test_mf_tir_write.py",
                                "tests/test_mutants_issue25.py", "tests/test_mf_use_mode.py"],
-    "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_engine_fresh.py",
+    "tyrefit/diagnose/engine.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_session12.py",
+                                   "tests/test_mutants_engine_fresh.py",
                                    "tests/test_diagnose_speed.py",
                                    "tests/test_mutants_issue25.py", "tests/test_diagnose_camber_evidence.py",
                                    "tests/test_diagnose.py"],
-    "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_fresh_core_stats.py",
+    "tyrefit/diagnose/stats.py": ["tests/test_mutants_sampled_diag.py", "tests/test_mutants_session12.py",
+                                  "tests/test_mutants_fresh_core_stats.py",
                                   "tests/test_diagnose_speed.py", "tests/test_mutants_issue25.py",
                                   "tests/test_diagnose.py", "tests/test_diagnose_noise_verdict.py"],
     "tyrefit/io/ttc.py": ["tests/test_mutants_sampled_io.py", "tests/test_io_ttc_lines.py", "tests/test_io_ttc.py",
@@ -327,6 +330,19 @@ KNOWN_SURVIVORS = [
      "(float() on neutral(), nominal, initial=, fixed=, theta), so p.items() - p0.items() never fails "
      "(never entered in tests/test_fit_mf.py, test_fit_params.py, test_fit_mf_speed.py, "
      "test_mutants_sampled_fit.py)"),
+    # the same seed on the code of 8b5c2bc (diagnose's speed-up, issue 24 build item 8: stats.py, core.py,
+    # pac89.py, engine.py changed): new sites
+    ("tyrefit/diagnose/stats.py", "np.linalg.pinv(X[tr], rcond=2e-10).T", "harmless",
+     "the held-out null's per-fold pseudo-inverse cut at 2e-10 instead of 1e-10 of the largest singular value "
+     "(the unit columns of a model's Jacobian: well-conditioned directions are far above both)"),
+    ("tyrefit/fitting/core.py", "0.0, M) - held[:, None, :] * eye", "equivalent",
+     "a held parameter's row and column are zeroed and its right-hand side is 0: a pivot of -1 instead of +1 "
+     "gives the same h = 0 there and leaves the free parameters' system untouched"),
+    ("tyrefit/fitting/core.py", "if lam > 20000000000.0:", "harmless",
+     "lm_normal gives up at a damping of 2e10 instead of 1e10: at most one more trial step, of ~1e-10 of a "
+     "parameter's scale, which ends the fit as converged either way"),
+    ("tyrefit/diagnose/engine.py", "if mf['odd_share'] > 0.5 else", "tie",
+     "a misfit whose odd and even parts in slip have exactly equal mean squares (odd share exactly 0.5)"),
 ]
 
 _OPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}

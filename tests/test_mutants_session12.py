@@ -229,3 +229,159 @@ def test_a_tyre_whose_force_crosses_zero_only_at_the_end_of_the_sweep_is_fitted(
     st = r.stats["lateral"]
     assert st["rmse"] < 1.05 * st["noise_floor"]
     assert r.tyre.coefficients["a0"] == pytest.approx(2.8, abs=0.05)
+
+
+# ------------------------------------------------------------------------------ tyrefit/diagnose/stats.py
+# (the sampled mutants of issue 25's --sample 216 --seed 15 on the code of 8b5c2bc, diagnose's speed-up)
+def test_the_noise_screenings_score_variance_is_j_sigma_j_of_the_noise_model(monkeypatch):
+    """stats.py [285] ``screen_candidates`` (lagged cross-products of J~ summed as x - x[swap], not x + x[swap]).
+
+    The noise-model screening studentises every candidate's score s = J~' r with its variance under the
+    estimated noise, J~' Sigma J~ with Sigma_g = sd_g^2 rho^|i-j| + tau^2 within each sweep (the Notes).
+    With the noise model fixed at a known one, the reported score variance of a two-parameter candidate is
+    that matrix, computed here the long way.  The mutant drops the correlated part of Sigma (a
+    one-parameter candidate's lagged products cancel exactly): under correlated noise the score of a smooth
+    direction is judged against white noise.
+    """
+    from tyrefit.diagnose import stats as S
+
+    G, n = 3, 25
+    sweep = np.repeat(np.arange(G), n)
+    lay = S.SweepLayout(sweep, G)
+    x = np.tile(np.linspace(-1.0, 1.0, n), G)
+    J_model = np.column_stack([np.ones_like(x), x])
+    J_new = [np.column_stack([x**2, np.abs(x) * (1.0 + 0.3 * sweep)])]
+    nm = S.NoiseModel(sd=np.array([1.0, 2.0, 1.5]), rho=np.array([0.7]), tau=np.array([0.4]))
+    monkeypatch.setattr(S, "corrected_noise", lambda *a, **k: (nm, nm))
+    resid = np.random.default_rng(3).standard_normal(len(x))
+    scr = S.screen_candidates(J_model, J_new, resid, lay, np.random.default_rng(4), n_boot=50, method="noise")
+
+    Jt = S.residualise(J_new[0], J_model)
+    i = np.arange(n)
+    expected = np.zeros((2, 2))
+    for g in range(G):
+        sigma = nm.sd[g] ** 2 * nm.rho[0] ** np.abs(i[:, None] - i[None, :]) + nm.tau[0] ** 2
+        Jg = Jt[sweep == g]
+        expected += Jg.T @ sigma @ Jg
+    assert scr.info[0]["var"] == pytest.approx(expected, rel=1e-9, abs=1e-9 * np.abs(expected).max())
+
+
+def test_the_bias_corrected_noise_model_of_strongly_correlated_noise_is_a_stationary_ar1():
+    """stats.py [405] ``corrected_noise`` (the corrected rho's upper clip doubled: 1.94).
+
+    The bias correction moves rho by the bias the pilot draws show, 2 rho_obs - mean(rho_pilot); for noise
+    as correlated as the estimator can tell (rho 0.99, 20-point sweeps) that lands above 1 (1.08).  The corrected model is what
+    the screening draws its null noise from, so it must stay a stationary AR(1) (|rho| < 1): drawn from,
+    every point of a sweep has the same sd.  The mutant lets rho pass 1: the draws grow along the sweep.
+    """
+    from tyrefit.diagnose import stats as S
+
+    G, n = 6, 20
+    lay = S.SweepLayout(np.repeat(np.arange(G), n), G)
+    x = np.tile(np.linspace(-1.0, 1.0, n), G)
+    true = S.NoiseModel(sd=np.full(G, 10.0), rho=np.array([0.99]), tau=np.array([0.0]))
+    e = S.simulate_noise(true, lay, 1, np.random.default_rng(0))[0]
+    Q, dw, db = S.projection_basis(np.column_stack([x, x**3, np.ones_like(x)]), lay)
+    _, cor = S.corrected_noise(e, Q, dw, db, lay, np.random.default_rng(2))
+    assert np.all(np.abs(np.asarray(cor.rho)) < 1.0)
+    draws = S.simulate_noise(cor, lay, 4000, np.random.default_rng(5))[:, :n]
+    assert np.all(np.isfinite(draws))
+    assert np.std(draws[:, -1]) == pytest.approx(np.std(draws[:, 0]), rel=0.1)
+
+
+# ------------------------------------------------------------------------------ tyrefit/models/pac89.py
+def test_the_lateral_jacobians_force_without_a_camber_is_the_lateral_force_at_zero_camber():
+    """pac89.py [89] ``lateral_jacobian``'s default camber (0 rad changed to 1 rad).
+
+    ``lateral_jacobian`` returns the lateral force identical to :func:`lateral_force`, whose camber
+    defaults to 0: called the same way (no camber), both give the zero-camber force, and the Jacobian
+    matches a central difference of that force.  The mutant evaluates a cambered (57 deg) tyre instead.
+    """
+    from tyrefit.models import pac89
+    from tyrefit.synthetic.pac89_example import EXAMPLE
+
+    fz = np.array([2000.0, 4000.0, 6000.0])
+    alpha = np.radians([-6.0, 1.0, 8.0])
+    fy, jac = pac89.lateral_jacobian(EXAMPLE, fz, alpha, names=["a8", "a3"])
+    assert fy == pytest.approx(pac89.lateral_force(EXAMPLE, fz, alpha), rel=1e-12)
+    assert fy == pytest.approx(pac89.lateral_force(EXAMPLE, fz, alpha, 0.0), rel=1e-12)
+    for j, k in enumerate(["a8", "a3"]):
+        h = 1e-6 * max(1.0, abs(EXAMPLE[k]))
+        up = pac89.lateral_force(dict(EXAMPLE, **{k: EXAMPLE[k] + h}), fz, alpha)
+        dn = pac89.lateral_force(dict(EXAMPLE, **{k: EXAMPLE[k] - h}), fz, alpha)
+        assert jac[:, j] == pytest.approx((up - dn) / (2 * h), rel=1e-5, abs=1e-6)
+
+
+# ------------------------------------------------------------------------------ tyrefit/diagnose/engine.py
+def test_a_systematic_misfits_where_lines_say_whether_they_list_slip_ranges_or_cells():
+    """engine.py [252] ``_misfit_text`` (the slip-range line left as its bare label: the ranges dropped).
+
+    The report of a systematic misfit says where it is largest, one line per kind of place: the slip ranges
+    (in deg, with the mean |error|) and the test cells (load, camber, pressure), each line naming its kind.
+    The mutant keeps the words 'slip ranges' and drops the ranges themselves: the report says the misfit is
+    largest at 'slip ranges' without saying which.
+    """
+    from tyrefit.diagnose.engine import _misfit_text
+
+    mf = {"odd_share": 0.8, "components": {"common": 0.7, "fz": 0.2}, "rmse_heldout_N": 40.0, "ratio": 2.0,
+          "noise_floor_N": 20.0, "predictable_share": 0.6, "predictable_rmse_N": 30.0, "not_testable": [],
+          "slip_ranges": [{"slip_deg": (-12.0, -8.0), "mean_abs_N": 55.0},
+                          {"slip_deg": (8.0, 12.0), "mean_abs_N": 50.0}],
+          "cells": [{"fz_N": 6000.0, "camber_deg": 0.0, "pressure_kPa": None, "rmse_N": 60.0}]}
+    text, where = _misfit_text(mf, None)
+    assert len(where) == 2
+    assert where[0].startswith("slip ranges ") and "-12.0 to -8.0 deg" in where[0]
+    assert where[1].startswith("cells ") and "Fz 6.0 kN" in where[1]
+    assert "largest at slip ranges -12.0 to -8.0 deg" in text
+    assert "the model's curve shape" in text
+
+
+def test_the_zero_slip_shift_check_reads_only_sweeps_through_zero_slip():
+    """engine.py [422] ``_shift_evidence`` (a sweep skipped when its least slip is above +0.3 x the window,
+    not above -0.3 x: one-sided sweeps pass).
+
+    The check reads each sweep's force at zero slip as the intercept of a quartic through the points within
+    +-3 deg, so only sweeps that reach well into both sides of zero count; with fewer than 3 of them it
+    leaves the decision to the held-out evidence.  8 sweeps through zero and 4 that start at zero slip
+    (0..3 deg): the verdict rests on the 8.  Only one-sided sweeps: no verdict from this check.  The mutant
+    reads the one-sided sweeps' extrapolated intercepts as well (12 sweeps; 4 with only one-sided ones).
+    """
+    from types import SimpleNamespace
+
+    from tyrefit.diagnose.engine import _shift_evidence
+
+    n, floor = 49, 20.0
+    both = np.radians(np.linspace(-3.0, 3.0, n))
+    one = np.radians(np.linspace(0.0, 3.0, n))
+    slip = np.r_[np.tile(both, 8), np.tile(one, 4)]
+    sweep = np.repeat(np.arange(12), n)
+    fz = np.repeat(np.r_[np.linspace(2000.0, 8000.0, 8), np.linspace(2000.0, 8000.0, 4)], n)
+    d = SimpleNamespace(inputs=SimpleNamespace(slip_angle=slip, fz=fz), sweep=sweep)
+    noise = floor * np.random.default_rng(3).standard_normal(slip.size)
+    out = _shift_evidence(d, noise, 0.10, floor)
+    assert out.startswith("no shift at zero slip") and "of 8 sweeps" in out
+    m = sweep >= 8
+    d1 = SimpleNamespace(inputs=SimpleNamespace(slip_angle=slip[m], fz=fz[m]), sweep=sweep[m] - 8)
+    assert _shift_evidence(d1, noise[m], 0.10, floor) is None
+
+
+def test_a_knee_on_top_of_the_richest_testable_friction_law_is_refused_naming_that_law():
+    """engine.py [429] ``_knee_evidence`` (the friction law in the model read as ``in_model[1]``).
+
+    A grip loss above the rated load is named only when it beats every smooth law of friction in load; when
+    the model already has the richest law these loads can test (none richer left in the pool), the knee
+    cannot be told from that law's further curvature and the refusal names the law in the model.  The
+    mutant reads a second load_friction law that a model never has: the diagnosis stops with an IndexError.
+    """
+    from types import SimpleNamespace
+
+    from tyrefit.diagnose.engine import _knee_evidence
+
+    fz = np.repeat([3000.0, 5000.0, 7000.0], 10)
+    eng = SimpleNamespace(data=SimpleNamespace(inputs=SimpleNamespace(fz=fz, rated_load=5000.0)))
+    st = SimpleNamespace(oof=np.ones(fz.size))
+    effects = [SimpleNamespace(id="load_friction_curved", family="load_friction"),
+               SimpleNamespace(id="overload_knee", family="overload")]
+    cur = SimpleNamespace(spec=SimpleNamespace(effects=effects))
+    why = _knee_evidence(eng, st, cur, {}, {}, 1.0, None)
+    assert why.startswith("no knee told apart: load_friction_curved is in the model")
