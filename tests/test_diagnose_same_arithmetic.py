@@ -20,15 +20,7 @@ from tyrefit.diagnose.fitter import ModelSpec, _batch_problem, _start, fit, fit_
 from tyrefit.effects import EFFECTS
 from tyrefit.fitting.core import lm_normal_batch
 from tyrefit.models import pac89
-from tyrefit.synthetic.hidden import make_case, rig_grid
-
-
-@pytest.fixture(scope="module")
-def six():
-    case = make_case(("load_friction",), "ar1", seed=3,
-                     grid=rig_grid(loads=(2000.0, 3200.0, 4400.0, 5600.0, 6800.0, 8000.0), cambers_deg=(0.0,),
-                                   pressures=(220e3,)))
-    return prepare(case.data, rated_load=case.rated_load)
+from tyrefit.synthetic.hidden import make_case
 
 
 @pytest.fixture(scope="module")

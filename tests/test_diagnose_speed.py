@@ -12,19 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tyrefit.diagnose import prepare
 from tyrefit.diagnose import stats as S
 from tyrefit.diagnose.fitter import ModelSpec, fit, fit_folds, fit_start
 from tyrefit.fitting.core import lm_normal, lm_normal_batch
-from tyrefit.synthetic.hidden import make_case, rig_grid
-
-
-@pytest.fixture(scope="module")
-def six():
-    case = make_case(("load_friction",), "ar1", seed=3,
-                     grid=rig_grid(loads=(2000.0, 3200.0, 4400.0, 5600.0, 6800.0, 8000.0), cambers_deg=(0.0,),
-                                   pressures=(220e3,)))
-    return prepare(case.data, rated_load=case.rated_load)
 
 
 @pytest.mark.parametrize("effects", [(), ("load_friction",), ("overload",), ("load_friction", "curvature_load")])
