@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import OutputError
-from ..io.outputs import _real, check_output, check_report_dir
+from ..io.outputs import check_output, check_report_dir, real_path
 
 __all__ = ["check_outputs"]
 
@@ -24,7 +24,7 @@ def check_outputs(args, files=("out", "json"), reports=("report",)) -> None:
     for name in files:
         v = getattr(args, name, None)
         if v:
-            r = _real(v)
+            r = real_path(v)
             if r in seen:
                 raise OutputError(f"--{name} {v}: the same file as --{seen[r]}; give each output its own name")
             seen[r] = name

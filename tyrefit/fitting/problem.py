@@ -5,8 +5,8 @@ is the same for every model family:
 
 * the **data** as :class:`~tyrefit.fitting.core.Sweeps` (the measured quantity and each point's sweep);
 * the **weights**: each sweep counts once in the cost, however densely it was sampled
-  (w_i = 1/n_s, :meth:`~tyrefit.fitting.core.Sweeps.sweep_weights`), so a long sweep cannot outvote
-  the short ones (Komana et al. fit one friction curve per load; their Eq. 5 sums the sweeps alike);
+  (w_i = 1/n_s, :meth:`~tyrefit.fitting.core.Sweeps.sweep_weights`), so a densely sampled sweep
+  cannot outvote the others;
 * the **cost** ('l2', 'l1' = Komana et al. Eq. 5, or a robust 'soft_l1' / 'huber' with a per-point
   scale), the free parameters' names and box bounds, and how the core is called.
 

@@ -48,7 +48,7 @@ from pathlib import Path
 
 from ..errors import OutputError, OutputExistsError, option
 
-__all__ = ["check_output", "atomic_write", "write_text", "write_bytes", "staged_dir",
+__all__ = ["check_output", "real_path", "atomic_write", "write_text", "write_bytes", "staged_dir",
            "output_run", "OutputRun", "current_run", "MANIFEST", "os_error_message", "read_manifest"]
 
 #: name of the manifest tyrefit keeps in every report folder it writes
@@ -125,7 +125,7 @@ def _ident(p: Path) -> tuple[int, int] | None:
     return (st.st_dev, st.st_ino)
 
 
-def _real(p: str | os.PathLike) -> Path:
+def real_path(p: str | os.PathLike) -> Path:
     return Path(os.path.realpath(os.fspath(p)))
 
 
@@ -229,7 +229,7 @@ class OutputRun:
         self.input_ids: dict[tuple[int, int], str] = {}
         for i in inputs:
             self.add_input(i)
-        self.reports: set[Path] = {_real(r) for r in reports}
+        self.reports: set[Path] = {real_path(r) for r in reports}
         self.staged: dict[Path, Path] = {}       # real target -> temporary file
         self.shown: dict[Path, Path] = {}        # real target -> path as the user gave it
         self.tmpdirs: dict[Path, Path] = {}      # staged folder (temporary) -> real target folder
@@ -241,14 +241,14 @@ class OutputRun:
         p = Path(path)
         if not p.exists() or p.is_dir():
             return
-        self.inputs[_real(p)] = str(path)
+        self.inputs[real_path(p)] = str(path)
         ident = _ident(p)
         if ident is not None:
             self.input_ids[ident] = str(path)
 
     def check_not_input(self, path: str | os.PathLike) -> None:
         p = Path(path)
-        r = _real(p)
+        r = real_path(p)
         src = self.inputs.get(r)
         if src is None:
             ident = _ident(p)
@@ -269,7 +269,7 @@ class OutputRun:
 
     def check_target(self, path: Path, force: bool) -> None:
         """Refuse a target that is an input, staged twice, a folder, or a foreign file in a report folder."""
-        r = _real(path)
+        r = real_path(path)
         if r in self.staged:
             raise OutputError(f"{path}: written twice in one run (the same file as "
                               f"{self.shown.get(r, r)}); give each output its own name")
@@ -305,7 +305,7 @@ class OutputRun:
             self.created.append(m)
 
     def stage(self, target: Path, tmp: Path) -> None:
-        r = _real(target)
+        r = real_path(target)
         self.staged[r] = tmp
         self.shown[r] = target
 
@@ -529,7 +529,7 @@ def staged_dir(path: str | os.PathLike, force: bool = False) -> Iterator[Path]:
             prefix=side_name(p.name, parent or tempfile.gettempdir(), suffix=".", extra=_RANDOM), dir=parent)))
     except OSError as exc:
         raise _oserror(exc, p, "cannot create the folder") from None
-    run.tmpdirs[tmp] = _real(p)
+    run.tmpdirs[tmp] = real_path(p)
     try:
         yield tmp
     except BaseException:
