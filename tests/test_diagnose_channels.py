@@ -1,8 +1,10 @@
 """Diagnosis of the aligning moment and the drive/brake force (tyrefit.diagnose.channels).
 
-Truth tyres: MFeval's published MF 6.1 set evaluated by tyrefit.models.mf61 (a model form the
-channel catalogue, built on PAC89's single Magic Formula curve, does not share), with coefficient
-groups switched off or on (benchmarks/diagnose_channels.py); noise added here.
+Truth tyres: MFeval's published MF 6.1 set evaluated by tyrefit.models.mf61, with coefficient
+groups switched off or on (benchmarks/diagnose_channels.py); noise added here.  The Fx catalogue
+is built on PAC89's longitudinal curve, a form the truth does not share; the Mz catalogue is MF
+5.2/6.1's own trail form (tyrefit.effects.channels.trail_moment), so its Mz tests also use a truth
+of another form (Pacejka's brush model, tests/test_trail_model.py).
 """
 
 from __future__ import annotations
@@ -36,12 +38,14 @@ def _case(channel, keep, loads=(0.5, 1.0, 1.5), cambers=(0.0,), pressures=(260e3
     df = make_sweeps(p, seed=seed, noise=0.0, loads=[f * p["FNOMIN"] for f in loads], cambers_deg=cambers,
                      pressures=pressures, slip_angles_deg=(0.0,), n_points=41, combined=False, pure=True)
     rng = np.random.default_rng(seed)
-    for _, g in df.groupby("run"):
-        t = g[f"true_{channel}"].to_numpy(float)
-        df.loc[g.index, channel] = t + rng.normal(0.0, noise * np.max(np.abs(t)), len(g))
+    for y in (channel, "fy"):  # the Mz model reads the measured side force: it is noisy too
+        for _, g in df.groupby("run"):
+            t = g[f"true_{y}"].to_numpy(float)
+            df.loc[g.index, y] = t + rng.normal(0.0, noise * np.max(np.abs(t)), len(g))
     swept = df.groupby("run")["slip_ratio"].transform(np.ptp) > 0.05
     df = df[swept if channel == "fx" else ~swept].reset_index(drop=True)
-    cd = channel_data(df[["run", "fz", "slip_angle", "slip_ratio", "camber", "pressure", channel]], channel)
+    cols = ["run", "fz", "slip_angle", "slip_ratio", "camber", "pressure", channel] + (["fy"] if channel == "mz" else [])
+    cd = channel_data(df[cols], channel)
     assert not isinstance(cd, str), cd
     return p, df, diagnose_channel(cd)
 
@@ -164,7 +168,8 @@ def _ar1(rng, n, rho):
 def test_pressure_effect_needs_pressures():
     df = pd.DataFrame({"run": np.repeat([0, 1], 30), "fz": np.repeat([3000.0, 6000.0], 30),
                        "slip_angle": np.tile(np.radians(np.linspace(-10, 10, 30)), 2),
-                       "mz": np.tile(40 * np.sin(np.radians(np.linspace(-10, 10, 30)) * 6), 2)})
+                       "mz": np.tile(40 * np.sin(np.radians(np.linspace(-10, 10, 30)) * 6), 2),
+                       "fy": np.tile(-3000 * np.sin(1.3 * np.arctan(np.radians(np.linspace(-10, 10, 30)) * 10)), 2)})
     cd = channel_data(df, "mz")
     assert not isinstance(cd, str)
     assert isinstance(channel_data(df, "fx"), str)
@@ -194,7 +199,8 @@ def test_a_channel_that_cannot_be_fitted_is_reported_not_raised(monkeypatch):
     monkeypatch.setattr(C, "diagnose_channel", boom)
     df = pd.DataFrame({"run": np.repeat([0, 1], 30), "fz": np.repeat([3000.0, 6000.0], 30),
                        "slip_angle": np.tile(np.radians(np.linspace(-10, 10, 30)), 2),
-                       "mz": np.tile(40 * np.sin(np.radians(np.linspace(-10, 10, 30)) * 6), 2)})
+                       "mz": np.tile(40 * np.sin(np.radians(np.linspace(-10, 10, 30)) * 6), 2),
+                       "fy": np.tile(-3000 * np.sin(1.3 * np.arctan(np.radians(np.linspace(-10, 10, 30)) * 10)), 2)})
     out, absent = C.diagnose_channels(df)
     assert out == {} and "could not be fitted" in absent["mz"]
 

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..effects.channels import CHANNEL_EFFECTS
+from ..effects.channels import CHANNEL_EFFECTS, TRAIL_COEFFICIENT
 from ..io.report import Report
 from . import views
 from .channels import ChannelDiagnosis, effect_sizes
@@ -36,7 +36,8 @@ def plot_channel_waterfall(chd: ChannelDiagnosis, ax=None):
     """RMSE and held-out RMSE from the channel's start model to its final one, against its noise floor."""
     if ax is None:
         ax = Figure(figsize=(6.5, 3.6)).subplots()
-    labels = ["start\nPAC89"] + [f"+\n{s.added}" for s in chd.steps[1:]]
+    labels = (["start\n" + ("trail x Fy" if chd.channel == "mz" else "PAC89")]
+              + [f"without\n{s.added[1:]}" if s.added.startswith("-") else f"+\n{s.added}" for s in chd.steps[1:]])
     _waterfall(ax, labels, [s.rmse for s in chd.steps], [s.rmse_heldout for s in chd.steps], chd.noise_floor,
                chd.unit, _NAMES[chd.channel])
     return ax
@@ -102,6 +103,18 @@ def add_channel_sections(r: Report, dg) -> None:
                                                   "load, start model above, final model below.")
         coef = chd.pac89.get("coefficients", {})
         cat = CHANNEL_EFFECTS[ch]
+        if ch == "mz":
+            final = chd.steps[-1]
+            r.table([{"coefficient": k, "value": v, "meaning": TRAIL_COEFFICIENT[k].meaning if k in TRAIL_COEFFICIENT
+                      else "see the effect above"} for k, v in final.values.items()], digits=5,
+                    caption="The final trail model (Mz = -trail x Fy at zero camber + residual torque; lengths in m at "
+                            f"the middle load {chd.data.inputs.fz_ref or float('nan'):.0f} N, the MF 6.1 coefficient "
+                            "each one is in brackets)")
+            r.table([{"coefficient": k, "value": v} for k, v in coef.items() if v != 0.0], digits=5,
+                    caption="PAC89's aligning part fitted to the same sweeps with every coefficient the data identify "
+                            f"(RMSE {chd.pac89.get('rmse', float('nan')):.3g} N*m against the trail model's "
+                            f"{final.rmse:.3g} N*m): what a PAC89 .tir can keep of this record's Mz")
+            continue
         r.table([{"coefficient": k, "value": v} for k, v in coef.items() if v != 0.0], digits=5,
                 caption=f"PAC89 {'aligning' if ch == 'mz' else 'longitudinal'} coefficients with only what PAC89 "
                         f"holds ({', '.join(chd.pac89.get('effects', [])) or 'start model'}; RMSE "

@@ -7,15 +7,21 @@ braking and traction), so each channel present gets its own diagnosis with its o
 catalogue (:mod:`tyrefit.effects.channels`):
 
 1. **Data.**  Mz comes from the cornering sweeps the lateral diagnosis reads (the same
-   sweeps, levels and thinning, :func:`~tyrefit.diagnose.data.prepare`); Fx from the
+   sweeps, levels and thinning, :func:`~tyrefit.diagnose.data.prepare`), with the side force
+   of the same points (:func:`reference_side_force`: each sweep's Fy smoothed by its own
+   Magic Formula curve, taken at the least-cambered sweep of the same load and pressure, since
+   the trail multiplies the side force of slip alone); Fx from the
    drive/brake sweeps at zero slip angle (:func:`~tyrefit.diagnose.data.slip_ratio_segments`:
    slip ratio swept by >= ``KAPPA_SWEPT``, median slip angle within ``ALPHA_PURE`` of zero).
-   Combined-slip sweeps stay out: PAC89 has no
-   combined slip.
-2. **Start model.**  The channel's PAC89 part with the shape factor, one peak
-   coefficient, the stiffness load law and a constant curvature
-   (:data:`~tyrefit.effects.channels.START`), fitted by least squares on the channel in
-   N or N*m, every point alike (the statistics below are point-wise).
+   Combined-slip sweeps stay out.
+2. **Start model.**  Mz: the pneumatic trail times that side force
+   (:func:`tyrefit.effects.channels.trail_moment`, Magic Formula 5.2/6.1's pure-slip form) with
+   the trail's shape factor, peak, stiffness factor and its load law, and a constant curvature.
+   Fx: PAC89's longitudinal part with the shape factor, one peak coefficient, the stiffness load
+   law and a constant curvature.  Both from :data:`~tyrefit.effects.channels.START`, fitted by
+   least squares on the channel in N or N*m, every point alike (the statistics below are point-wise).
+   Beside the result, PAC89's aligning part fitted with every coefficient the data identify says
+   what a PAC89 ``.tir`` keeps of the record's Mz (``pac89`` of the JSON).
 3. **Forward selection on held-out sweeps.**  Every testable catalogue effect is added in
    turn and refitted; whole sweeps are held out (each in turn up to
    :attr:`ChannelSettings.loso_max_sweeps`, else ``folds`` groups of sweeps) and
@@ -38,6 +44,7 @@ catalogue (:mod:`tyrefit.effects.channels`):
      best of many candidates pass by chance;
    * camber and pressure are named only where the residual differs between their levels
      consistently from load to load (:func:`~tyrefit.diagnose.contrast.camber_evidence`);
+     their refinements, once the family is named, need only the held-out evidence;
    * a refinement (:attr:`~tyrefit.effects.base.Effect.refinement`) only refines a
      family that has already been accepted.
 
@@ -60,9 +67,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 from scipy import stats
+from scipy.optimize import least_squares
 
 from ..effects.base import Effect, ModelInputs
-from ..effects.channels import CHANNEL_EFFECTS, CHANNELS, PAC89_COEFFICIENT, START
+from ..effects.channels import CHANNEL_EFFECTS, CHANNELS, COEFFICIENT, PAC89_COEFFICIENT, START, trail_moment
 from ..errors import DataError, FitError
 from ..fitting._blas import single_threaded_blas
 from ..fitting.core import Parameters, solve
@@ -73,7 +81,7 @@ from .contrast import CAMBER_ALPHA, _camber_evidence
 from .stats import HeldoutNull, SweepLayout, corrected_noise, projection_basis
 
 __all__ = ["ChannelSettings", "ChannelData", "ChannelStep", "ChannelDiagnosis", "channel_data", "diagnose_channel",
-           "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "UNITS"]
+           "diagnose_channels", "predict", "nested_p", "sweep_p", "systematic_share", "reference_side_force", "UNITS"]
 
 _DEG = np.pi / 180.0
 #: the knot spacing of the noise floor's smooth curve, in the channel's slip unit
@@ -210,7 +218,8 @@ class ChannelDiagnosis:
         u = self.unit
         out = [f"{self.channel}: noise floor {self.noise_floor:.3g} {u}"]
         for s in self.steps:
-            out.append(f"  {'+ ' + s.added if s.added else 'start':<28} RMSE {s.rmse:8.3g} {u}   "
+            label = ("without " + s.added[1:] if s.added.startswith("-") else "+ " + s.added) if s.added else "start"
+            out.append(f"  {label:<28} RMSE {s.rmse:8.3g} {u}   "
                        f"held-out {s.rmse_heldout:8.3g} {u}")
         out.append(f"  accepted: {', '.join(self.accepted) or 'nothing beyond the start model'}")
         out.append("  " + self.unexplained.get("summary", ""))
@@ -235,6 +244,7 @@ def channel_data(data, channel: str, rated_load: float | None = None) -> Channel
     df, source, meta = _frame_of(data)
     rated = rated_load if rated_load is not None else meta.get("rated_load")
     keep = [c for c in ("run", "camber", "pressure", "speed", "load") if c in df.columns]
+    side = None
     if channel in ("mz", "fy"):
         what = "aligning moment (mz)" if channel == "mz" else "lateral force (fy)"
         need = (channel, "slip_angle", "fz")
@@ -242,6 +252,14 @@ def channel_data(data, channel: str, rated_load: float | None = None) -> Channel
             return f"no {what} in the record"
         cols = ["slip_angle", "fz"] + keep + (["slip_ratio"] if "slip_ratio" in df.columns else [])
         frame = df[cols].assign(fy=df[channel])
+        if channel == "mz":
+            # the trail model needs the side force of the same points: keep the points that have both
+            if "fy" not in df.columns or pd.to_numeric(df["fy"], errors="coerce").notna().sum() < 20:
+                return ("the aligning moment's model (Mz = -trail x Fy + residual torque) needs the side force "
+                        "of the same points, and the record has no fy")
+            both = pd.to_numeric(df["fy"], errors="coerce").notna()
+            frame = frame[both.to_numpy()]
+            side = frame.assign(fy=pd.to_numeric(df["fy"], errors="coerce")[both.to_numpy()])
         if frame.dropna(subset=["slip_angle", "fz", "fy"]).empty:
             return f"no {what} in the record"
     else:
@@ -253,10 +271,120 @@ def channel_data(data, channel: str, rated_load: float | None = None) -> Channel
             return "no drive/brake sweeps at zero slip angle (slip ratio swept by >= 0.05) in the record"
     try:
         sd = prepare(frame, rated_load=rated)
+        if side is not None:
+            # the same points in the same order: prepare's choice of points does not look at the values
+            sf = prepare(side.assign(fy=side["fy"].where(frame["fy"].notna())), rated_load=rated)
+            if (len(sf.fy) != len(sd.fy) or not np.array_equal(sf.inputs.fz, sd.inputs.fz)
+                    or not np.array_equal(sf.inputs.slip_angle, sd.inputs.slip_angle)):
+                return "the side force and the aligning moment are not measured at the same points"
+            force, zero = reference_side_force(sf)
+            sd.inputs = sd.inputs._replace(side_force=force, side_force_zero=zero)
     except DataError as e:
         return str(e).split(": ", 1)[-1]
     sd.source = source
     return ChannelData(channel, sd)
+
+
+def _sweep_curve(x: np.ndarray, y: np.ndarray):
+    """One sweep's side force as a Magic Formula curve in slip, or None where a curve cannot follow it.
+
+    Fy = D sin(C atan(B a - E (B a - atan(B a)))) + Sv, a = slip + Sh (Pacejka 2012, Eq. 4.6), fitted by
+    least squares from three starts: six numbers per sweep, so the curve keeps the sweep's own peak,
+    shifts and shape while about 6 / n of the noise variance remains.  None for a sweep of fewer than
+    10 points, or one the curve misses by more than twice the sweep's own point-to-point scatter (a
+    loop, a broken sweep).
+    """
+    if len(x) < 10 or np.ptp(x) <= 0:
+        return None
+    d0 = float(y[np.argmax(np.abs(y))])
+    small = np.abs(x) < max(2.0 * _DEG, float(np.quantile(np.abs(x), 0.2)))
+    k0 = (float(np.polyfit(x[small], y[small], 1)[0]) if small.sum() >= 3 and np.ptp(x[small]) > 0
+          else d0 / (3 * _DEG))
+    if d0 == 0.0 or k0 == 0.0:
+        return None
+
+    def curve(p, xx):
+        b, c, d, e, sh, sv = p
+        a = b * (xx + sh)
+        return d * np.sin(c * np.arctan(a - e * (a - np.arctan(a)))) + sv
+
+    best = None
+    for c0, e0 in ((1.3, 0.0), (1.8, -1.0), (1.1, 0.5)):
+        b0 = k0 / (c0 * d0)
+        b0 = b0 if b0 > 0 else (abs(b0) or 10.0)
+        try:
+            sol = least_squares(lambda p: curve(p, x) - y, [b0, c0, d0 * 1.05, e0, 0.0, 0.0], method="trf",
+                                x_scale="jac", bounds=([1e-3, 0.3, -np.inf, -20.0, -0.2, -np.inf],
+                                                       [1e3, 3.0, np.inf, 1.0, 0.2, np.inf]), max_nfev=300)
+        except (ValueError, FloatingPointError):
+            continue
+        if np.isfinite(sol.cost) and (best is None or sol.cost < best.cost):
+            best = sol
+    if best is None:
+        return None
+    miss = float(np.sqrt(np.mean((curve(best.x, x) - y) ** 2)))
+    order = np.argsort(x)
+    scatter = float(np.median(np.abs(np.diff(y[order], 2)))) / 0.6745 / np.sqrt(6.0)
+    if miss > 2.0 * scatter + 1e-9 * abs(d0):
+        return None
+    p = best.x
+    return lambda xx: curve(p, np.asarray(xx, float))
+
+
+def reference_side_force(sf: SweepData) -> tuple[np.ndarray, np.ndarray]:
+    """The side force the trail multiplies, at every point of ``sf`` (the side-force sweeps of the Mz points).
+
+    Magic Formula 5.2/6.1 multiply the trail by the side force of slip alone, at zero camber
+    (Pacejka 2012, Eq. 4.E31 with Fy0(gamma = 0)): the camber thrust acts near the patch centre, not at
+    the trail.  So each sweep takes the smoothed side force (:func:`_sweep_curve`) of the sweep at the
+    same load, pressure and speed levels with the smallest |camber| (its own where it is that sweep or
+    no such sweep exists), evaluated at its own slip angles.  Where no curve follows a sweep, its measured
+    values (or the reference sweep's, interpolated in slip) are used.
+
+    Returns the side force at every point and the slip angle [rad] where its sweep's reference side
+    force crosses zero (MF 6.1 centres the residual torque there, alpha_r = alpha + SHf, Eq. 4.E37-4.E38;
+    0 where it does not cross zero within the sweep).
+    """
+    x, y = sf.inputs.slip_angle, np.asarray(sf.fy, float)
+    G = sf.n_sweeps
+    curves, own = [], []
+    for g in range(G):
+        m = sf.sweep == g
+        curves.append(_sweep_curve(x[m], y[m]))
+        own.append(m)
+    cam = np.abs(sf.levels["camber"][sf.sweep_level("camber")]) if "camber" in sf.levels else np.zeros(G)
+    others = [f for f in sf.levels if f != "camber"]
+    key = np.column_stack([sf.sweep_level(f) for f in others]) if others else np.zeros((G, 1), int)
+    out = y.copy()
+    zero = np.zeros(len(y))
+    for g in range(G):
+        same = np.flatnonzero((key == key[g]).all(axis=1))
+        ref = int(same[np.argmin(cam[same])]) if len(same) else g
+        if cam[ref] >= cam[g]:
+            ref = g
+        m = own[g]
+        if curves[ref] is not None:
+            out[m] = curves[ref](x[m])
+        elif ref != g:
+            o = np.argsort(x[own[ref]])
+            out[m] = np.interp(x[m], x[own[ref]][o], y[own[ref]][o])
+        zero[m] = _zero_crossing(x[own[ref]], y[own[ref]], curves[ref])
+    return out, zero
+
+
+def _zero_crossing(x: np.ndarray, y: np.ndarray, curve) -> float:
+    """The slip nearest zero where the sweep's side force (its curve, else its points) changes sign; 0 if none."""
+    if curve is not None:
+        xs = np.linspace(float(np.min(x)), float(np.max(x)), 2001)
+        ys = curve(xs)
+    else:
+        o = np.argsort(x)
+        xs, ys = x[o], y[o]
+    i = np.flatnonzero(np.sign(ys[:-1]) * np.sign(ys[1:]) < 0)
+    if not len(i):
+        return 0.0
+    roots = xs[i] - ys[i] * (xs[i + 1] - xs[i]) / (ys[i + 1] - ys[i])
+    return float(roots[np.argmin(np.abs(roots))])
 
 
 def _pure_longitudinal(df: pd.DataFrame, keep: list[str]) -> pd.DataFrame | None:
@@ -280,35 +408,46 @@ def _pure_longitudinal(df: pd.DataFrame, keep: list[str]) -> pd.DataFrame | None
 
 # ---------------------------------------------------------------------------------- model
 def _part(channel: str) -> tuple[str, ...]:
-    return pac89.ALIGNING if channel == "mz" else pac89.LONGITUDINAL
+    return tuple(COEFFICIENT["mz"]) if channel == "mz" else pac89.LONGITUDINAL
 
 
 def predict(channel: str, values: dict, effects: list[Effect], x: ModelInputs) -> np.ndarray:
-    """The channel (Mz [N*m] or Fx [N], ISO-W) of the PAC89 part plus ``effects`` at the inputs ``x``.
+    """The channel (Mz [N*m] or Fx [N], ISO-W) of the start model plus ``effects`` at the inputs ``x``.
 
-    ``x.slip_angle`` holds the channel's slip (slip angle [rad] for Mz, slip ratio for Fx).
+    Mz: the trail model (:func:`tyrefit.effects.channels.trail_moment`, measured Fy in ``x.side_force``);
+    Fx: PAC89's longitudinal part.  ``x.slip_angle`` holds the channel's slip (slip angle [rad] for Mz,
+    slip ratio for Fx).  Coefficients not in ``values`` take their neutral values.
     """
-    coef = {k: values.get(k, 0.0) for k in _part(channel)}
+    defs = COEFFICIENT[channel]
+    coef = {k: values.get(k, defs[k].neutral if channel == "mz" else 0.0) for k in _part(channel)}
     for e in effects:
         if e.apply is not None:
             e.apply(coef, {p.name: values.get(p.name, p.neutral) for p in e.params}, x)
     sv = coef.pop("sv", 0.0)
     if channel == "mz":
-        return pac89.aligning_moment(coef, x.fz, x.slip_angle, x.camber)
+        return trail_moment(coef, x)
     return pac89.longitudinal_force(coef, x.fz, x.slip_angle) + sv
 
 
 def _start_values(cd: ChannelData) -> dict[str, float]:
-    """Start values of the start model from the sweeps: the peak and the small-slip slope per kN.
+    """Start values of the start model from the sweeps.
 
-    PAC89 units and signs: Mz_pac = -Mz (ISO-W), slip angle in deg; Fx in N, slip ratio in %.
+    Mz: the peak trail from -Mz / Fy at small slip (1-3 deg, where the trail is near its peak and Fy well
+    away from zero), per unit load at the middle load; the trail's shape from typical values (the fit's
+    other starts cover the C-E valley).  Fx (PAC89 units, slip ratio in percent): the peak and the
+    small-slip slope per kN.
     """
     sd = cd.sweeps
-    x, y, fzk = sd.inputs.slip_angle, cd.y, sd.inputs.fz * 1e-3
+    x, y = sd.inputs.slip_angle, cd.y
     if cd.channel == "mz":
-        xs, ys, small = x / _DEG, -y, 1.5
-    else:
-        xs, ys, small = x * 100.0, y, 2.0
+        fy = np.asarray(sd.inputs.side_force, float)
+        fz_ref = sd.inputs.fz_ref or float(np.median(sd.inputs.fz))
+        near = (np.abs(x) > 1.0 * _DEG) & (np.abs(x) < 3.0 * _DEG) & (np.abs(fy) > 0.05 * np.max(np.abs(fy)))
+        t = -y[near] / fy[near] / (sd.inputs.fz[near] / fz_ref)
+        dt = float(np.median(t)) if near.sum() >= 3 else 0.03
+        return {"mz_Ct": 1.2, "mz_Dt": float(np.clip(dt, -0.09, 0.45)), "mz_Bt": 10.0, "mz_Bt_fz": 0.0, "mz_Et": -1.0}
+    fzk = sd.inputs.fz * 1e-3
+    xs, ys = x * 100.0, y
     peaks, slopes = [], []
     for g in range(sd.n_sweeps):
         m = sd.sweep == g
@@ -317,13 +456,11 @@ def _start_values(cd: ChannelData) -> dict[str, float]:
         if pos.sum() >= 3:
             i = np.argmax(np.abs(ys[pos]))
             peaks.append(ys[pos][i] / fk)
-        near = m & (np.abs(xs) < small)
+        near = m & (np.abs(xs) < 2.0)
         if near.sum() >= 4 and np.ptp(xs[near]) > 0:
             slopes.append(np.polyfit(xs[near], ys[near], 1)[0] / fk)
-    d = float(np.median(peaks)) if peaks else (1.0 if cd.channel == "mz" else 1000.0)
+    d = float(np.median(peaks)) if peaks else 1000.0
     k = float(np.median(slopes)) if slopes else 5.0 * d
-    if cd.channel == "mz":
-        return {"c0": 2.3, "c2": d if abs(d) > 1e-6 else 1.0, "c4": k if abs(k) > 1e-6 else d, "c5": 0.0, "c9": -1.0}
     return {"b0": 1.65, "b2": min(max(d, 60.0), 3400.0), "b4": max(k, 1.0), "b5": 0.0, "b8": 0.0}
 
 
@@ -339,7 +476,7 @@ class _Model:
         self.names = names
         self.fixed = dict(fixed)
         self.defs = {p.name: p for e in self.effects for p in e.params}
-        self.defs.update({k: v for k, v in PAC89_COEFFICIENT.items() if k in names and k not in self.defs})
+        self.defs.update({k: v for k, v in COEFFICIENT[cd.channel].items() if k in names and k not in self.defs})
 
     def parameters(self, values: dict[str, float]) -> Parameters:
         out = Parameters()
@@ -364,10 +501,14 @@ class _Model:
 
         starts = None
         if multistart:
-            c, e = ("c0", "c9") if ch == "mz" else ("b0", "b8")
             base = params.valuesdict()
-            starts = [base, {**base, c: 1.5, e: 0.0}, {**base, c: 3.0 if ch == "mz" else 1.9, e: 0.5},
-                      {**base, c: 1.2, e: -2.0}]
+            if ch == "mz":  # the trail's shape: C-E valley and how fast it falls (Bt)
+                starts = [base, {**base, "mz_Ct": 1.0, "mz_Et": 0.0, "mz_Bt": 15.0},
+                          {**base, "mz_Ct": 1.5, "mz_Et": -3.0, "mz_Bt": 8.0},
+                          {**base, "mz_Ct": 1.1, "mz_Et": -5.0, "mz_Bt": 20.0}]
+            else:
+                starts = [base, {**base, "b0": 1.5, "b8": 0.0}, {**base, "b0": 1.9, "b8": 0.5},
+                          {**base, "b0": 1.2, "b8": -2.0}]
         sol = solve(resid, params, method="trf", x_scale="params", starts=starts, nonfinite="penalise",
                     stderr=False, what=f"{ch} channel fit", max_nfev=400)
         return sol.values
@@ -568,10 +709,11 @@ def _verdict(ratio: float, floor: float, unit: str, share: float, rho: float) ->
                          "conditions: the difference between the two runs is the noise alone")
 
 
-_FORM = {"mz": ("PAC89's aligning part is one Magic Formula curve for the whole moment; Magic Formula 5.2/6.1 build "
-                "Mz as a pneumatic trail (a cosine-form curve that falls to zero as the patch slides) times Fy, "
-                "plus a residual torque (Pacejka 2012, Eq. 4.E31-4.E33), a shape the single curve cannot follow "
-                "at every load: fit `tyrefit fit ... --model mf61`"),
+_FORM = {"mz": ("the trail model (Magic Formula 5.2/6.1's pure-slip Mz, Pacejka 2012, Eq. 4.E31-4.E47) with every "
+                "law the data can test leaves it; what it has no term for: the rig's own moment (a wheel-centre "
+                "offset turning Fy into a moment, Mz = e x Fy), transient sweeps (the moment lags the slip by its "
+                "relaxation length), combined slip (Fx's lever arm s x Fx, Eq. 4.E76) or a trail curve no "
+                "cosine form follows"),
          "fx": ("PAC89's longitudinal part has one curvature for drive and braking, no vertical shift and no "
                 "camber or pressure terms; Magic Formula 6.1 has them (Pacejka 2012, Eq. 4.E9-4.E18): fit "
                 "`tyrefit fit ... --model mf61`")}
@@ -663,9 +805,10 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
                         p_n = float((1.0 + np.count_nonzero(draws >= gain)) / (len(draws) + 1.0))
                 ev = _evidence(cur, st, cd, floor, rho, s, level, p_noise=p_n)
                 factor = _CONTRAST_FACTOR.get(catalogue[eid].family)
-                if ev["status"] == "passed" and factor:
+                if ev["status"] == "passed" and factor and catalogue[eid].family not in fams:
                     # as on Fy: camber and pressure are named only where the residual differs between their
-                    # levels consistently from load to load (a misfit common to every sweep is not theirs)
+                    # levels consistently from load to load (a misfit common to every sweep is not theirs);
+                    # a refinement of a family already named needs only the held-out evidence
                     why = _camber_evidence(cd.sweeps, cur.resid, CAMBER_ALPHA, factor=factor)
                     if why is not None:
                         ev.update(status="rejected", reason=why)
@@ -683,6 +826,16 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
             for k, v in evidence.items():  # candidates of this round that lost are re-tested next round
                 if v.get("status") == "passed":
                     v["status"] = "passed, not the best"
+            if not catalogue[st.added].refinement:
+                # a family accepted earlier that the new one makes redundant is dropped (a camber moment in a
+                # record half of whose sweeps are cambered first passes for a residual torque)
+                cur, gone = _backward(cd, cur, catalogue, fixed, folds, floor, rho, s)
+                if gone is not None:
+                    steps.append(cur)
+                    for eid in [a for a in accepted if catalogue[a].family == gone[0]]:
+                        evidence[eid] = {**evidence.get(eid, {}), "status": "dropped", "round": rnd,
+                                         "reason": f"redundant once {st.added} was accepted: {gone[1]}"}
+                    accepted = [a for a in accepted if catalogue[a].family != gone[0]]
     for eid, why in testable.items():
         if why is not None:
             evidence[eid] = {"status": "not testable", "reason": why}
@@ -699,6 +852,38 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
              for eid in catalogue]
     return ChannelDiagnosis(ch, cd, [], accepted, steps, cands, float(floor), unexplained,
                             _pac89_export(cd, cur, fixed), seconds=time.perf_counter() - t0)
+
+
+def _backward(cd: ChannelData, cur: ChannelStep, catalogue: dict, fixed: dict, folds, floor: float, rho: float,
+              s: ChannelSettings) -> tuple[ChannelStep, tuple[str, str] | None]:
+    """The current model without the one earlier family it no longer needs, if any (backward elimination).
+
+    Every family of ``cur`` but the last one added is taken out in turn (with its refinements) and the
+    model refitted; a family whose return no longer gains in practice (held-out RMSE lower by less than
+    ``margin`` x the noise floor and 1 %, or lower in fewer than ``min_sweeps_improved`` of the held-out
+    sweeps: the first two rules of :func:`_evidence`) is redundant.  Significance is not asked again: a
+    family that still carries a practical part of the held-out error stays.  Returns (the model without
+    the family that gains least, (family, why)) when one is redundant, else (``cur``, None).
+    """
+    last = catalogue[cur.added].family
+    others = sorted({catalogue[e].family for e in cur.effects} - {last})
+    worst = None
+    for fam in others:
+        without = [catalogue[e] for e in cur.effects if catalogue[e].family != fam]
+        try:
+            base = _evaluate(cd, without, fixed, cur.values, folds, "-" + fam)
+        except Exception:  # noqa: BLE001 - a model that cannot be fitted without the family keeps it
+            continue
+        ev = _evidence(base, cur, cd, floor, rho, s, s.alpha)
+        need = max(s.margin * floor, 0.01 * base.rmse_heldout)
+        if ((ev["delta_heldout"] < need or ev["sweeps_improved"] < s.min_sweeps_improved)
+                and (worst is None or ev["delta_heldout"] < worst[2]["delta_heldout"])):
+            worst = (fam, base, ev)
+    if worst is None:
+        return cur, None
+    ev = worst[2]
+    return worst[1], (worst[0], f"without it the held-out RMSE changes by {-ev['delta_heldout']:+.3g} {cd.unit}, "
+                                f"better on {100 * ev['sweeps_improved']:.0f} % of the held-out sweeps")
 
 
 #: families whose name needs the contrast between their condition's levels (:func:`.contrast.camber_evidence`)
@@ -768,8 +953,68 @@ def _clean(ev: dict) -> dict:
     return {k: (float(v) if isinstance(v, (np.floating,)) else v) for k, v in ev.items()}
 
 
+def _pac89_aligning(cd: ChannelData, final: ChannelStep) -> dict:
+    """PAC89's aligning part fitted to the Mz sweeps with every coefficient the data can identify.
+
+    Its RMSE beside the trail model's says what a PAC89 ``.tir`` loses on this record (Bakker, Nyborg &
+    Pacejka 1989: one sine curve for the whole moment, camber as shifts and a stiffness factor).
+    PAC89 units: Fz kN, slip angle and camber in deg, Mz_pac = -Mz (ISO-W).
+    """
+    s = cd.sweeps.summary
+    names = ["c0", "c2", "c4", "c9", "c13", "c17"]
+    if len(s.fz_levels) >= 2:
+        names += ["c1", "c5", "c8", "c12", "c16"]
+    if len(s.fz_levels) >= 3:
+        names += ["c3", "c7"]
+    if len(s.camber_levels) >= 2:
+        names += ["c6", "c10", "c11", "c15"] + (["c14"] if len(s.fz_levels) >= 2 else [])
+    x = cd.inputs
+    fzk, adeg, gdeg = x.fz * 1e-3, x.slip_angle / _DEG, x.camber / _DEG
+    ys = -cd.y
+    peaks, slopes = [], []
+    for g in range(cd.n_sweeps):
+        m = cd.sweep == g
+        fk = float(np.median(fzk[m]))
+        pos = m & (adeg > 0)
+        if pos.sum() >= 3:
+            peaks.append(ys[pos][np.argmax(np.abs(ys[pos]))] / fk)
+        near = m & (np.abs(adeg) < 1.5)
+        if near.sum() >= 4 and np.ptp(adeg[near]) > 0:
+            slopes.append(np.polyfit(adeg[near], ys[near], 1)[0] / fk)
+    d = float(np.median(peaks)) if peaks else 1.0
+    k = float(np.median(slopes)) if slopes else 5.0 * d
+    params = Parameters()
+    start = {"c0": 2.3, "c2": d if abs(d) > 1e-6 else 1.0, "c4": k if abs(k) > 1e-6 else d, "c9": -1.0}
+    for n in names:
+        p = PAC89_COEFFICIENT[n]
+        params.add(n, float(np.clip(start.get(n, p.neutral), *p.bounds)), min=p.bounds[0], max=p.bounds[1],
+                   scale=p.scale)
+
+    def resid(theta):
+        coef = {k: 0.0 for k in pac89.ALIGNING}
+        coef.update(params.values_of(theta))
+        return pac89.aligning_moment(coef, x.fz, x.slip_angle, x.camber) - cd.y
+
+    base = params.valuesdict()
+    starts = [base, {**base, "c0": 1.5, "c9": 0.0}, {**base, "c0": 3.0, "c9": 0.5}, {**base, "c0": 1.2, "c9": -2.0}]
+    try:
+        sol = solve(resid, params, method="trf", x_scale="params", starts=starts, nonfinite="penalise",
+                    stderr=False, what="PAC89 aligning fit", max_nfev=600)
+    except (FitError, ValueError, FloatingPointError, np.linalg.LinAlgError) as exc:
+        return {"effects": [], "left_out": list(final.effects), "notes": [f"PAC89's aligning part did not fit ({exc})"],
+                "coefficients": {}, "rmse": float("nan")}
+    coef = {k: float(sol.values.get(k, 0.0)) for k in pac89.ALIGNING}
+    r = resid(np.array([sol.values[n] for n in names]))
+    return {"effects": [], "left_out": list(final.effects),
+            "notes": [f"PAC89's aligning part (one sine curve for the whole moment) fitted with {', '.join(names)}; "
+                      f"the trail model's RMSE is {final.rmse:.3g} N*m"],
+            "coefficients": coef, "rmse": float(np.sqrt(np.mean(r * r)))}
+
+
 def _pac89_export(cd: ChannelData, final: ChannelStep, fixed: dict) -> dict:
     """The final model refitted with only what a PAC89 part can hold (its coefficients and RMSE)."""
+    if cd.channel == "mz":
+        return _pac89_aligning(cd, final)
     cat = CHANNEL_EFFECTS[cd.channel]
     keep = [cat[e] for e in final.effects if cat[e].representable]
     dropped = [e for e in final.effects if not cat[e].representable]

@@ -124,6 +124,11 @@ class ModelInputs(NamedTuple):
     ``rated_load`` [N], ``pressure_ref`` [Pa], ``speed_ref`` [m/s] are the
     points where the pressure/speed/overload terms are zero; ``fz_ref`` [N]
     is the reference load of the curved friction law (the middle load level).
+    ``side_force`` [N] is the measured lateral force of each point, where a
+    channel's model needs it (the aligning moment's trail times Fy), and
+    ``side_force_zero`` [rad] the slip angle at which that side force crosses
+    zero in the point's sweep (where the residual torque is centred); None
+    otherwise.
     """
 
     fz: np.ndarray
@@ -135,13 +140,16 @@ class ModelInputs(NamedTuple):
     pressure_ref: float | None = None
     speed_ref: float | None = None
     fz_ref: float | None = None
+    side_force: np.ndarray | None = None
+    side_force_zero: np.ndarray | None = None
 
     def take(self, idx) -> "ModelInputs":
         """The inputs at the points ``idx`` (index array or boolean mask)."""
         def t(a):
             return None if a is None else np.asarray(a)[idx]
         return self._replace(fz=t(self.fz), slip_angle=t(self.slip_angle), camber=t(self.camber),
-                             pressure=t(self.pressure), speed=t(self.speed))
+                             pressure=t(self.pressure), speed=t(self.speed),
+                             side_force=t(self.side_force), side_force_zero=t(self.side_force_zero))
 
 
 #: ``apply(coef, values, inputs)``: modify the PAC89 coefficient mapping in place
