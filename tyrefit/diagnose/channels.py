@@ -765,6 +765,10 @@ def diagnose_channel(cd: ChannelData, settings: ChannelSettings | None = None, s
             layout, noise = _noise_model(cd, r_rich, J_rich, rng)
         except Exception:  # noqa: BLE001 - without a noise model the F test and the sweep test decide
             layout = noise = None
+        if noise is not None:
+            # the richest model follows part of slow noise, so its residuals' correlation reads low; the
+            # bias-corrected noise model's correlation is the better one when it is the larger
+            rho = max(rho, float(np.ravel(noise.rho)[0]))
         for rnd in range(1, s.max_rounds + 1):
             have = set(cur.effects)
             fams = {catalogue[e].family for e in have}
