@@ -26,7 +26,16 @@ def _waterfall(ax, labels, rmse, heldout, floor, unit, title):
     ax.axhline(floor, color="k", ls="--", lw=1, label=f"noise floor {floor:.3g} {unit}")
     for i, v in enumerate(heldout):
         ax.annotate(f"{v:.3g}", (i + 0.18, v), ha="center", va="bottom", fontsize=8)
-    ax.set_xticks(x, labels, fontsize=8)
+    # the panel names the channel: drop the effect ids' channel prefix and break long ids at their last '_'
+    short = []
+    for lab in labels:
+        head, _, name = lab.rpartition("\n")
+        name = name[3:] if name[:3] in ("mz_", "fx_") else name
+        if len(name) > 12 and "_" in name:
+            a, _, b = name.rpartition("_")
+            name = f"{a}_\n{b}"
+        short.append(f"{head}\n{name}" if head else name)
+    ax.set_xticks(x, short, fontsize=8)
     ax.set_ylabel(f"RMSE [{unit}]", fontsize=9)
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=7)
