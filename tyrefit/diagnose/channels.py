@@ -446,22 +446,31 @@ def _start_values(cd: ChannelData) -> dict[str, float]:
         t = -y[near] / fy[near] / (sd.inputs.fz[near] / fz_ref)
         dt = float(np.median(t)) if near.sum() >= 3 else 0.03
         return {"mz_Ct": 1.2, "mz_Dt": float(np.clip(dt, -0.09, 0.45)), "mz_Bt": 10.0, "mz_Bt_fz": 0.0, "mz_Et": -1.0}
-    fzk = sd.inputs.fz * 1e-3
-    xs, ys = x * 100.0, y
+    d, k = _peak_and_slope(x * 100.0, y, sd.inputs.fz * 1e-3, sd.sweep, sd.n_sweeps, small=2.0, default=1000.0)
+    return {"b0": 1.65, "b2": min(max(d, 60.0), 3400.0), "b4": max(k, 1.0), "b5": 0.0, "b8": 0.0}
+
+
+def _peak_and_slope(xs: np.ndarray, ys: np.ndarray, fzk: np.ndarray, sweep: np.ndarray, n_sweeps: int,
+                    small: float, default: float) -> tuple[float, float]:
+    """Median over the sweeps of the peak of |ys| at positive slip and of the slope within +-``small``, per kN.
+
+    PAC89 units (``fzk`` in kN, ``xs`` in the part's slip unit); ``default`` for the peak where no sweep has 3
+    points at positive slip, 5 x the peak for the slope where none has 4 within ``small``.
+    """
     peaks, slopes = [], []
-    for g in range(sd.n_sweeps):
-        m = sd.sweep == g
+    for g in range(n_sweeps):
+        m = sweep == g
         fk = float(np.median(fzk[m]))
         pos = m & (xs > 0)
         if pos.sum() >= 3:
             i = np.argmax(np.abs(ys[pos]))
             peaks.append(ys[pos][i] / fk)
-        near = m & (np.abs(xs) < 2.0)
+        near = m & (np.abs(xs) < small)
         if near.sum() >= 4 and np.ptp(xs[near]) > 0:
             slopes.append(np.polyfit(xs[near], ys[near], 1)[0] / fk)
-    d = float(np.median(peaks)) if peaks else 1000.0
+    d = float(np.median(peaks)) if peaks else default
     k = float(np.median(slopes)) if slopes else 5.0 * d
-    return {"b0": 1.65, "b2": min(max(d, 60.0), 3400.0), "b4": max(k, 1.0), "b5": 0.0, "b8": 0.0}
+    return d, k
 
 
 class _Model:
@@ -973,20 +982,7 @@ def _pac89_aligning(cd: ChannelData, final: ChannelStep) -> dict:
     if len(s.camber_levels) >= 2:
         names += ["c6", "c10", "c11", "c15"] + (["c14"] if len(s.fz_levels) >= 2 else [])
     x = cd.inputs
-    fzk, adeg, gdeg = x.fz * 1e-3, x.slip_angle / _DEG, x.camber / _DEG
-    ys = -cd.y
-    peaks, slopes = [], []
-    for g in range(cd.n_sweeps):
-        m = cd.sweep == g
-        fk = float(np.median(fzk[m]))
-        pos = m & (adeg > 0)
-        if pos.sum() >= 3:
-            peaks.append(ys[pos][np.argmax(np.abs(ys[pos]))] / fk)
-        near = m & (np.abs(adeg) < 1.5)
-        if near.sum() >= 4 and np.ptp(adeg[near]) > 0:
-            slopes.append(np.polyfit(adeg[near], ys[near], 1)[0] / fk)
-    d = float(np.median(peaks)) if peaks else 1.0
-    k = float(np.median(slopes)) if slopes else 5.0 * d
+    d, k = _peak_and_slope(x.slip_angle / _DEG, -cd.y, x.fz * 1e-3, cd.sweep, cd.n_sweeps, small=1.5, default=1.0)
     params = Parameters()
     start = {"c0": 2.3, "c2": d if abs(d) > 1e-6 else 1.0, "c4": k if abs(k) > 1e-6 else d, "c9": -1.0}
     for n in names:
