@@ -256,7 +256,8 @@ def test_a_ttc_file_without_a_load_channel_is_told_which_channels_a_test_needs(t
     from tyrefit.errors import ColumnError
     from tyrefit.io.readers import read_data
 
-    three = _ttc_text(names="ET\tSA\tFY", units="s\tdeg\tN", row=lambda k, a: f"{k * 0.05:.2f}\t{a:.3f}\t{-150 * a:.1f}")
+    three = _ttc_text(names="ET\tSA\tFY", units="s\tdeg\tN",
+                      row=lambda k, a: f"{k * 0.05:.2f}\t{a:.3f}\t{-150 * a:.1f}")
     (tmp_path / "three.dat").write_text(three)
     with pytest.raises(ColumnError, match=r"slip_angle: slip_angle, fy, fz"):
         read_data(tmp_path / "three.dat", convention="sae")
@@ -736,3 +737,222 @@ def test_the_end_check_s_slip_shape_groups_are_orders_0_4_and_5_9():
     groups = res.unexplained["omnibus_groups"]
     assert groups["slip shape (orders 0-4)"]["directions"] == 5
     assert groups["slip shape (orders 5-9)"]["directions"] == 5
+
+
+# ------------------------------------------------------------------------------ fitting/mf*.py (Magic Formula fit)
+def _mf_published(loads, **kw):
+    """Sweeps of the published MF 6.1 set (tyrefit.synthetic.ttc_drivebrake) at ``loads`` (fractions of FNOMIN),
+    one pressure, zero camber; with its tyre info."""
+    from tyrefit.synthetic import ttc_drivebrake as gen
+
+    p = gen.contract_mf61()
+    fn = p["FNOMIN"]
+    kw = {"seed": 3, "pressures": [260e3], "cambers_deg": [0.0], "slip_angles_deg": [0.0], **kw}
+    return gen.make_sweeps(p, loads=[f * fn for f in loads], **kw), {"fnomin": fn,
+                                                                      "unloaded_radius": p["UNLOADED_RADIUS"]}
+
+
+def test_an_fx_stage_short_of_the_peak_holds_the_plain_arctangent_shape_and_reports_its_r2():
+    """mf_identify.py:74 [4] ``SHAPE_DEFAULTS`` (PEX1 held at 1 instead of 0 without a peak), mf.py:618 [600]
+    ``_r2`` (1 - sum(res^4) / SS_tot).
+
+    Drive/brake sweeps to +-0.05 reach no peak: the stage holds the documented shape, Pacejka's typical
+    C = 1.65 and E = 0 (the plain sine of the arctangent; E = 1 would flatten the curve into
+    sin(C atan(atan(B kappa))) beyond the data), and says so.  The stage's R^2 is 1 - SS_res / SS_tot of
+    its channel at the fitted coefficients, here recomputed from :func:`mf61.fx0` (to 1e-5: the stage
+    evaluates at the data's pressure levels).  The mutants hold E at 1, and report an R^2 of -3e6.
+    """
+    from tyrefit.fitting.mf import fit_mf
+    from tyrefit.models import mf61
+
+    df, info = _mf_published([0.5, 1.0, 1.5], seed=41, n_points=31, kappa_max=0.05)
+    df = df[df["slip_angle"] == 0.0]
+    r = fit_mf(df, tyre_info=info, stages=["Fx0"], multistart=False)
+    st = r.stages["Fx0"]
+    assert r.params["PCX1"] == 1.65 and r.params["PEX1"] == 0.0
+    assert st.held["PEX1"].endswith("curvature E held at 0")
+    fx = mf61.fx0(r.params, df["fz"].to_numpy(), df["slip_ratio"].to_numpy(), df["camber"].to_numpy(),
+                  df["pressure"].to_numpy(), df["speed"].to_numpy())
+    y = df["fx"].to_numpy()
+    assert st.facts["r2"] == pytest.approx(1.0 - np.sum((fx - y) ** 2) / np.sum((y - y.mean()) ** 2), abs=1e-5)
+
+
+def _stage_constraints(stage, **coefficients):
+    """The stage's constraint report (holds / worst) for MF 6.1 neutral coefficients changed by
+    ``coefficients``, on the grid of a record at 2-6 kN, slip ratios +-0.2, zero camber."""
+    from tyrefit.fitting.mf import _STAGE
+    from tyrefit.fitting.mf_contract import _check_constraints, _grid
+    from tyrefit.models import mf61
+
+    nominal = {"FNOMIN": 4000.0, "NOMPRES": 2.2e5, "UNLOADED_RADIUS": 0.3}
+    pts = pd.DataFrame({"fz": [2000.0, 4000.0, 6000.0], "pressure": [2.2e5] * 3, "camber": [0.0] * 3,
+                        "slip_ratio": [-0.2, 0.0, 0.2]})
+    rows = _check_constraints(_STAGE[stage], {**mf61.neutral(), **nominal, **coefficients}, _grid(pts, nominal))
+    return {r["constraint"]: r for r in rows}
+
+
+def test_the_mf_stage_constraints_hold_a_physical_set_and_catch_each_broken_limit():
+    """mf_contract.py:204 [227] ``_grid`` (slip signs -1, 1 -> -0, 1: braking never checked), mf_contract.py:108
+    [282] ``_factors`` (E_y <= 1 tested as E_y <= 0), mf_contract.py:119 [423] (B_yk > 0 tested as
+    B_yk + Fz > 0).
+
+    The stages hold Pacejka's limits over their grid and report each (the fit's notes name a broken one):
+    E_x = PEX1 (1 - PEX4 sgn(kappa)) <= 1 on both sides of the slip - 0.8 (1 + 0.5) = 1.2 under braking is
+    broken; E_y <= 1 holds at 0.5 (a common curvature) and breaks at 1.2; the combined Fy weight's B_yk
+    must be positive.  The mutants check driving only, forbid every positive E_y (the fit is then pushed
+    to E_y <= 0) and call B_yk = -2 positive (the load, thousands of N, added to it).
+    """
+    assert not _stage_constraints("Fx0", PEX1=0.8, PEX4=0.5)["E_x <= 1"]["holds"]
+    assert not _stage_constraints("Fx0", PEX1=0.8, PEX4=-0.5)["E_x <= 1"]["holds"]
+    assert _stage_constraints("Fx0", PEX1=0.5, PEX4=0.5)["E_x <= 1"]["holds"]
+    assert _stage_constraints("Fy0", PEY1=0.5)["E_y <= 1"]["holds"]
+    assert not _stage_constraints("Fy0", PEY1=1.2)["E_y <= 1"]["holds"]
+    byk = _stage_constraints("Fy", RBY1=-2.0)["B_yk > 0"]
+    assert not byk["holds"] and byk["worst"] == pytest.approx(-2.0)
+    assert _stage_constraints("Fy", RBY1=5.0)["B_yk > 0"]["holds"]
+
+
+def test_an_sae_cornering_record_in_three_degree_steps_is_refused_as_iso():
+    """mf_initial.py:138 [56] ``_orientation`` (the near-zero points kept when they span no slip: ``ptp <= 0``
+    -> ``< 0``).
+
+    Sweeps in 3 deg steps have only their zero-slip points within 2 deg of zero: no slope there, so the
+    orientation is measured on the points nearest zero (30 %).  An SAE record (force rising with slip angle)
+    passed as ISO at three loads is refused with the hint to pass the convention.  The mutant finds no
+    slope at zero slip, assumes ISO, and fits the tyre with its lateral force the wrong way round.
+    """
+    from tyrefit.errors import DataError
+    from tyrefit.fitting.mf import fit_mf
+
+    df, info = _mf_published([0.5, 1.0, 1.5], n_points=9, combined=False)
+    lat = df[df.groupby("run")["slip_ratio"].transform(lambda v: v.abs().max()) == 0]
+    assert lat["run"].nunique() == 3 and (np.abs(lat["slip_angle"]) <= 2 * _DEG).sum() == 3
+    with pytest.raises(DataError, match="rises with slip angle"):
+        fit_mf(lat.assign(fy=-lat["fy"]), tyre_info=info, stages=["Fy0"], multistart=False)
+
+
+def test_an_iso_cornering_record_with_a_third_of_its_samples_at_zero_slip_is_not_called_sae():
+    """mf_initial.py:140 [107] ``_orientation`` (without any slope to measure: -1 -> -0, i.e. SAE assumed).
+
+    When even the points nearest zero slip span no slip (a third of the samples held at exactly 0 deg), the
+    orientation cannot be measured and ISO-W, tyrefit's convention, is assumed: an ISO record is not refused.
+    The mutant assumes the opposite and refuses it as SAE ("rises with slip angle").  (The fit of such a
+    record is poor for another reason: the Eq. 2-4 estimates of those sweeps have no slope; see the report.)
+    """
+    from tyrefit.fitting.mf import fit_mf
+
+    df, info = _mf_published([0.5, 1.0, 1.5], n_points=9, combined=False)
+    lat = df[df.groupby("run")["slip_ratio"].transform(lambda v: v.abs().max()) == 0]
+    held = pd.concat([lat] + [lat[lat["slip_angle"] == 0.0]] * 3, ignore_index=True)
+    assert (held["slip_angle"] == 0.0).mean() > 0.3
+    r = fit_mf(held.sort_values(["run", "slip_angle"], kind="stable"), tyre_info=info, stages=["Fy0"],
+               multistart=False)
+    assert "Fy0" in r.stages
+
+
+# ------------------------------------------------------------------------------ tyrefit/fitting/initial.py (levels)
+def test_three_light_loads_150_n_apart_are_three_load_levels():
+    """initial.py:251 [22] ``load_levels`` (``abs_tol`` 100 N -> 200 N).
+
+    Loads are one level when they differ by less than max(100 N, 4 % of the largest): a kart or bicycle
+    tyre tested at 300, 450 and 600 N has three load levels, and the fit varies the load laws (a1, a4, a6
+    need >= 2 or 3 levels).  The mutant merges them into one level and holds every load law ("needs >= 2
+    load levels (data: 1)").
+    """
+    from tyrefit.fitting import fit_pac89
+    from tyrefit.fitting.initial import load_levels
+    from tyrefit.synthetic.pac89_example import lateral_sweeps
+
+    assert list(load_levels(np.array([300.0, 450.0, 600.0, 310.0]))) == [0, 1, 2, 0]
+    r = fit_pac89(lateral_sweeps(loads=(300.0, 450.0, 600.0), cambers_deg=(0.0,), seed=6))
+    assert not {"a1", "a4", "a6"} & set(r.not_identifiable), r.not_identifiable
+
+
+# ------------------------------------------------------------------------------ tyrefit/io/segment.py
+def _cycle(n=200, amp=10.0):
+    """One slip-angle cycle 0 -> +amp -> -amp -> 0 deg in n samples."""
+    return np.r_[np.linspace(0, amp, n // 4), np.linspace(amp, -amp, n // 2), np.linspace(-amp, 0, n // 4)]
+
+
+def test_a_sweep_at_a_load_six_percent_above_the_others_is_kept():
+    """segment.py:112 [311] ``_local_maxima`` (the valley left of a peak taken over ``c[h:k - 1]``, without the
+    bin next to the peak).
+
+    Set-point levels are the histogram peaks of a channel that stand out from the valley towards any higher
+    peak.  A record with two cycles at 4.0 kN and one at 4.25 kN (1.2 x the 200 N load tolerance above) has
+    both levels and three sweeps.  The mutant misses the valley right beside the smaller peak, loses the
+    4.25 kN level and drops its whole sweep as a 'set-point transition'.
+    """
+    from tyrefit.io.segment import segment_record
+
+    rng = np.random.default_rng(2)
+    a = np.r_[_cycle(), _cycle(), _cycle()]
+    fz = np.r_[np.full(400, 4000.0), np.full(200, 4250.0)] + rng.normal(0.0, 3.0, 600)
+    df = pd.DataFrame({"slip_angle": a * _DEG, "fz": fz, "fy": -100 * a}, index=np.arange(4, 604))
+    out, meta = segment_record(df, "slip_angle")
+    assert meta["n_sweeps"] == 3 and meta["dropped"] == {}
+    assert_allclose([s["fz"] for s in meta["sweeps"]], [4000.0, 4000.0, 4250.0], atol=2.0)
+
+
+def test_the_dwell_before_the_first_sweep_is_counted_as_a_dwell():
+    """segment.py:260 [198] ``segment_record`` (``label[a:a + i0]`` -> ``label[a:a - i0]``: the leading dwell
+    unlabelled, or a negative slice that relabels the rest of the record).
+
+    The segmentation says what it dropped and why.  A record that starts unloaded (100 samples), dwells at
+    zero slip (60), runs two cycles and dwells again (60) drops 100 samples as unloaded and the two dwells
+    (122 samples with their edges) as dwells, none as 'between sweeps'.  The mutant counts the first dwell
+    as 'between sweeps'.
+    """
+    from tyrefit.io.segment import segment_record
+
+    a = np.r_[np.zeros(160), _cycle(), _cycle(), np.zeros(60)]
+    fz = np.r_[np.full(100, 20.0), np.full(a.size - 100, 4000.0)]
+    df = pd.DataFrame({"slip_angle": a * _DEG, "fz": fz, "fy": -100 * a * (fz > 100)},
+                      index=np.arange(4, 4 + a.size))
+    _, meta = segment_record(df, "slip_angle")
+    assert meta["n_sweeps"] == 2
+    assert meta["dropped"] == {"tyre unloaded (fz < 200 N)": 100, "dwell at constant slip": 122}
+
+
+def test_the_time_order_note_counts_its_samples_in_the_plural(tmp_path):
+    """readers.py:772 [455] ``_time_order`` (the plural of 'sample time' for ``back + same > 1`` -> ``back - same``).
+
+    A logged record whose clock repeats one sample time and swaps two is read in time order with the note
+    "1 repeated and 1 out-of-order sample times" (two sample times in all); the mutant says 'sample time'.
+    """
+    from tyrefit.io.readers import read_data
+
+    a = np.concatenate([_cycle() for _ in range(6)])
+    t = np.arange(a.size) * 0.01
+    t[300] = t[299]
+    t[600], t[601] = t[601], t[600]
+    rows = ["time [s],slip_angle [deg],fy [N],fz [N]"]
+    rows += [f"{x:.3f},{y:.4f},{-3000 * math.tanh(0.2 * y):.3f},3000" for x, y in zip(t, a)]
+    (tmp_path / "rec.csv").write_text("\n".join(rows) + "\n")
+    ds = read_data(tmp_path / "rec.csv")
+    assert ds.meta["time_order"].startswith("time: 1 repeated and 1 out-of-order sample times;")
+
+
+def test_the_fy0_start_follows_the_cornering_stiffness_of_the_data():
+    """mf_initial.py:101 [136] ``_initial_pure`` (the start's PKY4 = 4 while PKY1, PKY2 are fitted for PKY4 = 2).
+
+    The module docstring: PKY1 and PKY2 start from the cornering stiffness against load,
+    K_y = PKY1 Fz0 sin(PKY4 atan(Fz / (PKY2 Fz0))) with PKY4 = 2.  The start's K_y is then within 10 % of the
+    generating tyre's at each tested load (7 % here), a start near the data's curve.  The mutant starts
+    PKY4 at 4 with the PKY1, PKY2 made for 2: its start K_y is 72 % too stiff at the lightest load.
+    """
+    from tyrefit.fitting.mf import fit_mf
+    from tyrefit.synthetic import ttc_drivebrake as gen
+
+    df, info = _mf_published([0.5, 1.0, 1.5], seed=5, n_points=31, combined=False)
+    lat = df[df.groupby("run")["slip_ratio"].transform(lambda v: v.abs().max()) == 0]
+    start = fit_mf(lat, tyre_info=info, stages=["Fy0"], multistart=False).stages["Fy0"].initial
+    true = gen.contract_mf61()
+    fn = true["FNOMIN"]
+
+    def ky(c, fz):
+        return c["PKY1"] * fn * np.sin(c["PKY4"] * np.arctan(fz / (c["PKY2"] * fn)))
+
+    assert start["PKY4"] == 2.0
+    for fz in (0.5 * fn, fn, 1.5 * fn):
+        assert ky(start, fz) == pytest.approx(ky(true, fz), rel=0.10)
