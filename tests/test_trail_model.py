@@ -168,7 +168,7 @@ def test_mz_without_fy_is_reported_in_words():
                        "slip_angle": np.tile(np.radians(np.linspace(-10, 10, 30)), 2),
                        "mz": np.tile(40 * np.sin(np.radians(np.linspace(-10, 10, 30)) * 6), 2)})
     why = channel_data(df, "mz")
-    assert isinstance(why, str) and "side force" in why
+    assert isinstance(why, str) and "side force" in why and "no finite fy" in why
 
 
 @pytest.mark.parametrize("layout", ["2loads_2cambers", "3loads_3cambers"])
@@ -205,3 +205,16 @@ def test_camber_is_not_invented_under_strongly_correlated_noise():
 
     row = run_case(("mz", "plain", "2loads_2cambers", "ar1_09", 1001))
     assert "mz_camber" not in row["named"], row["accepted"]
+
+
+@pytest.mark.parametrize("fy,why", [(0.0, "zero throughout"), (np.inf, "no finite fy"), ("n/a", "no finite fy")])
+def test_mz_with_an_unusable_side_force_is_reported_in_words(fy, why):
+    """A side force of zeros (an unconnected channel), infinities or text cannot carry a trail: the Mz channel
+    is reported absent with the reason, not diagnosed as if the trail were zero."""
+    from tyrefit.diagnose.channels import diagnose_channels
+
+    a = np.radians(np.linspace(-10, 10, 30))
+    df = pd.DataFrame({"run": np.repeat([0, 1], 30), "fz": np.repeat([3000.0, 6000.0], 30),
+                       "slip_angle": np.tile(a, 2), "mz": np.tile(40 * np.sin(a * 6), 2), "fy": fy})
+    out, absent = diagnose_channels(df)
+    assert "mz" not in out and why in absent["mz"]

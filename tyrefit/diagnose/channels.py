@@ -254,12 +254,16 @@ def channel_data(data, channel: str, rated_load: float | None = None) -> Channel
         frame = df[cols].assign(fy=df[channel])
         if channel == "mz":
             # the trail model needs the side force of the same points: keep the points that have both
-            if "fy" not in df.columns or pd.to_numeric(df["fy"], errors="coerce").notna().sum() < 20:
+            fy = (pd.to_numeric(df["fy"], errors="coerce").replace([np.inf, -np.inf], np.nan) if "fy" in df.columns
+                  else pd.Series(np.nan, index=df.index))
+            if fy.notna().sum() < 20:
                 return ("the aligning moment's model (Mz = -trail x Fy + residual torque) needs the side force "
-                        "of the same points, and the record has no fy")
-            both = pd.to_numeric(df["fy"], errors="coerce").notna()
-            frame = frame[both.to_numpy()]
-            side = frame.assign(fy=pd.to_numeric(df["fy"], errors="coerce")[both.to_numpy()])
+                        "of the same points, and the record has no finite fy")
+            if not float(np.nanmax(np.abs(fy.to_numpy(float)))) > 1.0:
+                return "the side force of the aligning-moment points is zero throughout: no trail to diagnose"
+            both = fy.notna().to_numpy()
+            frame = frame[both]
+            side = frame.assign(fy=fy[both])
         if frame.dropna(subset=["slip_angle", "fz", "fy"]).empty:
             return f"no {what} in the record"
     else:
