@@ -956,3 +956,23 @@ def test_the_fy0_start_follows_the_cornering_stiffness_of_the_data():
     assert start["PKY4"] == 2.0
     for fz in (0.5 * fn, fn, 1.5 * fn):
         assert ky(start, fz) == pytest.approx(ky(true, fz), rel=0.10)
+
+
+# ------------------------------------------------------------------------------ found on the way: fitting/noise.py
+def test_an_up_and_down_cornering_record_in_three_degree_steps_is_fitted():
+    """A bug found while building the tests above (not a sampled mutant): ``noise._magic_formula_ssr``.
+
+    The noise floor fits one Magic Formula through each sweep, started from the slope of the points within
+    1/8 of the slip range of zero.  A sweep 0 -> 12 -> -12 -> 0 deg in 3 deg steps visits 0 three times and
+    has its +-3 deg points exactly 1/8 of the range away (left out by rounding): the slope was fitted to
+    three points at one slip, numpy's least squares failed, and ``tyrefit fit`` ended in a LinAlgError
+    traceback (exit 1).  Such a sweep is fitted (the slope then from the sweep's ends).
+    """
+    from tyrefit.fitting import fit_pac89
+    from tyrefit.synthetic.pac89_example import lateral_sweeps
+
+    up = np.arange(0.0, 12.1, 3.0)
+    cycle = np.r_[up, up[::-1][1:], -up[1:], -up[::-1][1:-1], 0.0]
+    r = fit_pac89(lateral_sweeps(loads=(3000.0, 5000.0, 7000.0), cambers_deg=(0.0,), slip_deg=cycle, seed=2))
+    assert r.stats["lateral"]["r2"] > 0.999
+    assert np.isfinite(r.stats["lateral"]["noise_floor"])

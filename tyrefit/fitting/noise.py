@@ -75,7 +75,7 @@ def _magic_formula_ssr(x: np.ndarray, y: np.ndarray) -> tuple[float, int]:
     i = np.argsort(x)
     x, y = x[i], y[i]
     lin = np.abs(x - x[np.argmin(np.abs(x))]) <= max(np.ptp(x) / 8, 1e-9)
-    slope = np.polyfit(x[lin], y[lin], 1)[0] if lin.sum() >= 2 else (y[-1] - y[0]) / np.ptp(x)
+    slope = np.polyfit(x[lin], y[lin], 1)[0] if lin.sum() >= 2 and np.ptp(x[lin]) > 0 else (y[-1] - y[0]) / np.ptp(x)
     d0 = max(np.abs(y).max(), 1e-9) * np.sign(slope or 1.0)
     c0 = 1.4
     p0 = np.array([slope / (c0 * d0), c0, d0, 0.0, 0.0, 0.0])
