@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from tyrefit.diagnose.channels import channel_data, diagnose_channel, reference_side_force
+from tyrefit.diagnose.channels import channel_data, diagnose_channel
 from tyrefit.effects.base import ModelInputs
 from tyrefit.effects.channels import TRAIL_COEFFICIENT, trail_moment
 from tyrefit.models import mf61
